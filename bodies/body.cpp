@@ -1,0 +1,217 @@
+#include "bodies/body.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+#include "bodies/damage.hpp"
+#include "bodies/family_scratch.hpp"
+
+namespace ckpd {
+
+namespace {
+
+using Mat3 = Eigen::Matrix3d;
+
+void check_definition(const BodyDefinition& d) {
+  std::ostringstream msg;
+  const std::string who = "body '" + d.name + "': ";
+  if (d.dimension != 2 && d.dimension != 3) {
+    msg << who << "dimension must be 2 or 3, got " << d.dimension;
+  } else if (d.reference_position.empty()) {
+    msg << who << "has no points (is the geometry smaller than the lattice spacing?)";
+  } else if (d.volume.size() != d.reference_position.size()) {
+    msg << who << "needs one volume per point";
+  } else if (!(d.density > 0) || !std::isfinite(d.density)) {
+    msg << who << "density must be positive, got " << d.density;
+  } else if (!(d.horizon > 0) || !std::isfinite(d.horizon)) {
+    msg << who << "horizon must be positive, got " << d.horizon;
+  } else if (!(d.full_family_volume > 0)) {
+    msg << who << "full family volume must be positive";
+  } else if (!d.no_failure.empty() && d.no_failure.size() != d.reference_position.size()) {
+    msg << who << "needs one no-failure flag per point";
+  } else if (!(d.critical_stretch > 0)) {
+    msg << who << "critical stretch must be positive, got " << d.critical_stretch;
+  } else if (d.dimension == 2 && d.constants.c3 != 0) {
+    msg << who << "a 2D body has no three-neighbour interactions (C3 must be 0)";
+  } else {
+    for (std::size_t i = 0; i < d.volume.size(); ++i) {
+      if (!(d.volume[i] > 0)) {
+        msg << who << "point " << i << " has non-positive volume " << d.volume[i];
+        break;
+      }
+      if (d.dimension == 2 && d.reference_position[i].z() != 0) {
+        msg << who << "2D point " << i << " is not in the z = 0 plane";
+        break;
+      }
+    }
+    if (msg.str().empty()) return;
+  }
+  throw std::invalid_argument(msg.str());
+}
+
+// Accumulates the stiffness bound matrix of one interaction: for an energy C/(2 R) (m - R)^2 in
+// a measure m with gradient g_c at each of its points, the contribution to point i is
+// (C/R) (sum_c |g_c|) |g_i| g^_i g^_i^T (a directional Gershgorin bound; see stable_step).
+void add_bound(Mat3& q, double weight, const Vec3& gi, double sum_norms) {
+  const double n = gi.norm();
+  if (n > 0) q += weight * sum_norms / n * (gi * gi.transpose());
+}
+
+struct PointCensus {
+  std::uint32_t n2 = 0, n3 = 0;
+  Mat3 q1 = Mat3::Zero(), q2 = Mat3::Zero(), q3 = Mat3::Zero();  // per unit C dV
+};
+
+PointCensus census_point(const FamilyScratch& s, bool pairs, bool triples) {
+  PointCensus c;
+  for (std::size_t a = 0; a < s.size(); ++a) {
+    const Vec3 n = s.ref[a] / s.length[a];
+    c.q1 += 2.0 / s.length[a] * (n * n.transpose());
+  }
+  if (pairs) {
+    s.for_each_pair([&](std::size_t a, std::size_t b) {
+      const Vec3 p = s.ref[a], q = s.ref[b];
+      const Vec3 area = p.cross(q);
+      const double A = area.norm();
+      if (A <= kDegenerateFraction * s.length[a] * s.length[b]) return;
+      c.n2 += 2;
+      const Vec3 unit = area / A;
+      const Vec3 gi = (p - q).cross(unit), gj = q.cross(unit), gk = unit.cross(p);
+      add_bound(c.q2, 2.0 / A, gi, gi.norm() + gj.norm() + gk.norm());
+    });
+  }
+  if (triples) {
+    s.for_each_triple([&](std::size_t a, std::size_t b, std::size_t d) {
+      const Vec3 p = s.ref[a], q = s.ref[b], r = s.ref[d];
+      const Vec3 hj = q.cross(r), hk = r.cross(p), hl = p.cross(q);
+      const double V = std::abs(p.dot(hj));
+      if (V <= kDegenerateFraction * s.length[a] * s.length[b] * s.length[d]) return;
+      c.n3 += 6;
+      const Vec3 hi = -(hj + hk + hl);
+      add_bound(c.q3, 6.0 / V, hi, hi.norm() + hj.norm() + hk.norm() + hl.norm());
+    });
+  }
+  return c;
+}
+
+}  // namespace
+
+std::uint64_t Body::total_two_neighbour() const {
+  std::uint64_t t = 0;
+  for (auto n : n2) t += n;
+  return t;
+}
+
+std::uint64_t Body::total_three_neighbour() const {
+  std::uint64_t t = 0;
+  for (auto n : n3) t += n;
+  return t;
+}
+
+double Body::mass() const {
+  double m = 0;
+  for (double v : volume) m += density * v;
+  return m;
+}
+
+Body make_body(BodyDefinition def) {
+  check_definition(def);
+  Body body;
+  body.name = def.name;
+  body.dimension = def.dimension;
+  body.density = def.density;
+  body.horizon = def.horizon;
+  body.constants = def.constants;
+  body.critical_stretch = def.critical_stretch;
+  body.damage_enabled = std::isfinite(def.critical_stretch);
+  body.reference_position = std::move(def.reference_position);
+  body.volume = std::move(def.volume);
+  body.no_failure = std::move(def.no_failure);
+  const std::size_t n = body.size();
+
+  body.family = build_bond_family(body.reference_position, body.horizon);
+  body.bond_intact.assign(body.family.bond_entries(), 1);
+
+  body.beta.resize(n);
+  body.dv1.resize(n);
+  body.dv2.assign(n, 0);
+  body.dv3.assign(n, 0);
+  body.n2.assign(n, 0);
+  body.n3.assign(n, 0);
+  body.stiffness_bound.resize(n);
+
+  const double ball = body.dimension == 3
+                          ? 4.0 / 3.0 * std::numbers::pi * std::pow(body.horizon, 3)
+                          : std::numbers::pi * body.horizon * body.horizon;
+  const bool pairs = body.has_pairs(), triples = body.has_triples();
+  std::string error;
+#pragma omp parallel
+  {
+    FamilyScratch scratch;
+#pragma omp for schedule(dynamic, 64)
+    for (std::size_t i = 0; i < n; ++i) {
+      double family_volume = 0;
+      for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k)
+        family_volume += body.volume[body.family.neighbour[k]];
+      const double beta = family_volume / def.full_family_volume;
+      body.beta[i] = beta;
+      scratch.load(body, i, false, pairs || triples);
+      const PointCensus c = census_point(scratch, pairs, triples);
+      const double vh = beta * ball;
+      const std::size_t n1 = scratch.size();
+      body.n2[i] = c.n2;
+      body.n3[i] = c.n3;
+      body.dv1[i] = n1 ? vh / static_cast<double>(n1) : 0;
+      body.dv2[i] = c.n2 ? vh * vh / c.n2 : 0;
+      body.dv3[i] = c.n3 ? vh * vh * vh / c.n3 : 0;
+      const Mat3 q = std::abs(body.constants.c1) * body.dv1[i] * c.q1 +
+                     std::abs(body.constants.c2) * body.dv2[i] * c.q2 +
+                     std::abs(body.constants.c3) * body.dv3[i] * c.q3;
+      body.stiffness_bound[i] = Eigen::SelfAdjointEigenSolver<Mat3>(q, Eigen::EigenvaluesOnly)
+                                    .eigenvalues()
+                                    .maxCoeff();
+      if (beta > 1 + 1e-9) {
+#pragma omp critical
+        if (error.empty()) {
+          std::ostringstream msg;
+          msg << "body '" << body.name << "': point " << i << " has a family volume " << beta
+              << " times the full family volume; the point volumes or the full family volume "
+                 "are inconsistent";
+          error = msg.str();
+        }
+      }
+    }
+  }
+  if (!error.empty()) throw std::invalid_argument(error);
+
+  body.displacement.assign(n, Vec3::Zero());
+  body.velocity.assign(n, Vec3::Zero());
+  body.acceleration.assign(n, Vec3::Zero());
+  body.external_force_density.assign(n, Vec3::Zero());
+  body.force_density.assign(n, Vec3::Zero());
+  body.strain_energy_density.assign(n, 0.0);
+
+  for (const Precrack& crack : def.precracks) apply_precrack(body, crack);
+  return body;
+}
+
+StableStep stable_step(const Body& body) {
+  // Central differences are stable for dt <= 2 / omega_max. For the linearised system
+  // rho u'' = -K u, omega_max^2 = lambda_max(K) / rho, and lambda_max(K) <= max_i k_i where
+  // k_i is the largest eigenvalue of the directional row-sum matrix built in census_point:
+  // by Cauchy-Schwarz (sum_c g_c.u_c)^2 <= (sum_c |g_c|) sum_c (g_c.u_c)^2 / |g_c| for every
+  // interaction, and each interaction's gradient at a point does not depend on whose family it
+  // is counted in.
+  StableStep s;
+  for (std::size_t i = 0; i < body.size(); ++i) {
+    if (body.stiffness_bound[i] <= 0) continue;
+    const double dt = 2.0 * std::sqrt(body.density / body.stiffness_bound[i]);
+    if (dt < s.dt) s = {dt, i};
+  }
+  return s;
+}
+
+}  // namespace ckpd

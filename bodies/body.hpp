@@ -1,0 +1,96 @@
+#pragma once
+// One CKPD body: structure-of-arrays point data, its bond families, the per-point interaction
+// counts and effective volumes (MODEL.md sections 1-4). Two- and three-neighbour sets are never
+// stored: they are enumerated from the bond family whenever they are needed.
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "bodies/bond_family.hpp"
+#include "bodies/material.hpp"
+#include "bodies/vec.hpp"
+
+namespace ckpd {
+
+// Bonds whose reference segment crosses this surface start failed (MODEL.md section 4).
+// Two corners: a segment in the z = 0 plane (2D bodies). Three or more: a planar convex polygon
+// (3D bodies). A bond is cut when its end points lie strictly on opposite sides of the line or
+// plane and the crossing point lies inside the segment or polygon (edges included).
+struct Precrack {
+  std::vector<Vec3> corners;
+};
+
+struct BodyDefinition {
+  std::string name;
+  int dimension = 3;
+  std::vector<Vec3> reference_position;
+  std::vector<double> volume;  // per point; an area in 2D
+  double density = 0;          // kg/m^3 (3D), kg/m^2 (2D)
+  double horizon = 0;
+  InteractionConstants constants;
+  // Bonds fail when their stretch exceeds this; +inf disables damage (no damage bookkeeping).
+  double critical_stretch = std::numeric_limits<double>::infinity();
+  // Sum of the point volumes that an interior point's family holds in this discretisation;
+  // beta^i is the family's point volume over this (MODEL.md section 1). For a lattice it is the
+  // number of lattice offsets within the horizon times the cell volume.
+  double full_family_volume = 0;
+  std::vector<std::uint8_t> no_failure;  // empty, or one flag per point: its bonds never fail
+  std::vector<Precrack> precracks;
+};
+
+struct Body {
+  // Identity and material.
+  std::string name;
+  int dimension = 3;
+  double density = 0;
+  double horizon = 0;
+  InteractionConstants constants;
+  double critical_stretch = std::numeric_limits<double>::infinity();
+  bool damage_enabled = false;
+
+  // Reference data per point, fixed for the run.
+  std::vector<Vec3> reference_position;
+  std::vector<double> volume;
+  std::vector<double> beta;             // fullness of the family
+  std::vector<double> dv1, dv2, dv3;    // effective volumes VH/N1, VH^2/N2, VH^3/N3
+  std::vector<std::uint32_t> n2, n3;    // ordered, non-degenerate sets (N1 = family size)
+  std::vector<double> stiffness_bound;  // k_i: bound of the linearised stiffness, N/m^3/m
+  std::vector<std::uint8_t> no_failure;
+
+  // Bonds: CSR family and one byte per stored bond (1 intact, 0 failed for good).
+  BondFamily family;
+  std::vector<std::uint8_t> bond_intact;
+
+  // State.
+  std::vector<Vec3> displacement;
+  std::vector<Vec3> velocity;
+  std::vector<Vec3> acceleration;
+  std::vector<Vec3> external_force_density;
+  std::vector<Vec3> force_density;          // total: internal + external + contact
+  std::vector<double> strain_energy_density;  // W1/2 + W2/3 + W3/4, filled on request
+
+  std::size_t size() const { return reference_position.size(); }
+  Vec3 current_position(std::size_t i) const { return reference_position[i] + displacement[i]; }
+  bool has_pairs() const { return constants.c2 != 0; }
+  bool has_triples() const { return constants.c3 != 0; }
+  std::size_t bond_count() const { return family.bond_entries() / 2; }
+  std::uint64_t total_two_neighbour() const;    // sum of N2 (ordered)
+  std::uint64_t total_three_neighbour() const;  // sum of N3 (ordered)
+  double mass() const;
+};
+
+// Validates the definition (throws std::invalid_argument naming what is wrong), builds the
+// families, counts the interactions, sets effective volumes and the stiffness bound, applies
+// pre-cracks.
+Body make_body(BodyDefinition definition);
+
+// The smallest stable time step of this body alone: 2 sqrt(rho / max_i k_i) (central-difference
+// limit with the largest eigenvalue bounded by k_i / rho). Also returns the limiting point.
+struct StableStep {
+  double dt = std::numeric_limits<double>::infinity();
+  std::size_t point = 0;
+};
+StableStep stable_step(const Body& body);
+
+}  // namespace ckpd

@@ -1,0 +1,38 @@
+#pragma once
+// Bond failure (MODEL.md section 4). Only bonds fail; the two- and three-neighbour factors d2,
+// d3 follow from the bonds of the centre point and are applied where those sets are enumerated
+// (failed bonds are simply not loaded into the family scratch).
+#include <cstdint>
+#include <vector>
+
+#include "bodies/body.hpp"
+
+namespace ckpd {
+
+// Objective bond stretch s = (l - L)/L, with dx = dX + (u_j - u_i).
+inline double bond_stretch(const Vec3& dX, const Vec3& du) {
+  const double L = dX.norm();
+  return ((dX + du).norm() - L) / L;
+}
+
+// True when the reference segment a-b crosses the pre-crack (see Precrack for the rule).
+bool segment_crosses_precrack(const Vec3& a, const Vec3& b, const Precrack& crack);
+
+// Marks every bond that crosses the pre-crack as failed. Throws std::invalid_argument for a
+// pre-crack with the wrong number of corners for the body's dimension or a degenerate one.
+// Returns the number of bonds (each counted once) that it cut.
+std::size_t apply_precrack(Body& body, const Precrack& crack);
+
+// Fails, for good, every intact bond whose stretch exceeds the critical stretch, except bonds
+// touching a no-failure point. Both stored directions of a bond compute the identical stretch,
+// so they fail together. Returns the number of bonds (each counted once) that failed now.
+std::size_t update_bond_failure(Body& body);
+
+// Point damage D^i = 1 - intact / all bonds of the family (0 for a point with no bonds).
+void point_damage(const Body& body, std::vector<double>& damage);
+double max_point_damage(const Body& body);
+
+// Number of failed bonds, each counted once.
+std::size_t failed_bond_count(const Body& body);
+
+}  // namespace ckpd

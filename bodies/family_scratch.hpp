@@ -1,0 +1,111 @@
+#pragma once
+// Enumerates the two- and three-neighbour sets of one point on the fly from its bond family
+// (MODEL.md section 2): unordered pairs a < b and triples a < b < c of family slots whose
+// members are pairwise within the horizon. Adjacency between slots is kept as bit rows so the
+// triple candidates of a pair are one AND of two rows. One scratch per thread; it only grows.
+#include <bit>
+#include <cstdint>
+#include <vector>
+
+#include "bodies/body.hpp"
+
+namespace ckpd {
+
+// Below these fractions of the product of edge lengths an area or volume counts as degenerate.
+inline constexpr double kDegenerateFraction = 1e-10;
+
+class FamilyScratch {
+ public:
+  // Loads point i's family: reference offsets dX, current offsets dx = dX + (u_j - u_i)
+  // (added in this order so that small displacements keep their precision), reference lengths
+  // and, when `pairs_needed`, the adjacency rows. With `intact_only`, failed bonds are left out.
+  void load(const Body& body, std::size_t i, bool intact_only, bool pairs_needed) {
+    const std::size_t begin = body.family.offset[i], end = body.family.offset[i + 1];
+    const Vec3 Xi = body.reference_position[i], ui = body.displacement.empty() ? Vec3::Zero()
+                                                                              : body.displacement[i];
+    const bool has_u = !body.displacement.empty();
+    size_ = 0;
+    grow(end - begin);
+    for (std::size_t k = begin; k < end; ++k) {
+      if (intact_only && !body.bond_intact[k]) continue;
+      const std::uint32_t j = body.family.neighbour[k];
+      ref[size_] = body.reference_position[j] - Xi;
+      cur[size_] = has_u ? Vec3(ref[size_] + (body.displacement[j] - ui)) : ref[size_];
+      length[size_] = ref[size_].norm();
+      ++size_;
+    }
+    words_ = (size_ + 63) / 64;
+    if (!pairs_needed) return;
+    const double limit = body.horizon * (1 + kHorizonTolerance);
+    const double limit2 = limit * limit;
+    std::fill(adjacency.begin(), adjacency.begin() + static_cast<std::ptrdiff_t>(size_ * words_), 0);
+    for (std::size_t a = 0; a < size_; ++a) {
+      for (std::size_t b = a + 1; b < size_; ++b) {
+        if ((ref[b] - ref[a]).squaredNorm() <= limit2) {
+          adjacency[a * words_ + b / 64] |= std::uint64_t{1} << (b % 64);
+          adjacency[b * words_ + a / 64] |= std::uint64_t{1} << (a % 64);
+        }
+      }
+    }
+  }
+
+  std::size_t size() const { return size_; }
+
+  // f(a, b) for every unordered adjacent pair a < b.
+  template <class PairFn>
+  void for_each_pair(PairFn&& f) const {
+    for (std::size_t a = 0; a < size_; ++a) {
+      const std::uint64_t* row = &adjacency[a * words_];
+      for (std::size_t w = (a + 1) / 64; w < words_; ++w) {
+        std::uint64_t bits = row[w] & above(a, w);
+        while (bits) {
+          const std::size_t b = w * 64 + static_cast<std::size_t>(std::countr_zero(bits));
+          bits &= bits - 1;
+          f(a, b);
+        }
+      }
+    }
+  }
+
+  // f(a, b, c) for every unordered pairwise-adjacent triple a < b < c.
+  template <class TripleFn>
+  void for_each_triple(TripleFn&& f) const {
+    for_each_pair([&](std::size_t a, std::size_t b) {
+      const std::uint64_t* ra = &adjacency[a * words_];
+      const std::uint64_t* rb = &adjacency[b * words_];
+      for (std::size_t w = (b + 1) / 64; w < words_; ++w) {
+        std::uint64_t bits = ra[w] & rb[w] & above(b, w);
+        while (bits) {
+          const std::size_t c = w * 64 + static_cast<std::size_t>(std::countr_zero(bits));
+          bits &= bits - 1;
+          f(a, b, c);
+        }
+      }
+    });
+  }
+
+  std::vector<Vec3> ref, cur;
+  std::vector<double> length;
+
+ private:
+  // Mask of the bits of word w whose slot index is > s.
+  static std::uint64_t above(std::size_t s, std::size_t w) {
+    if (s / 64 < w) return ~std::uint64_t{0};
+    const std::size_t bit = s % 64;
+    return bit == 63 ? 0 : (~std::uint64_t{0} << (bit + 1));
+  }
+  void grow(std::size_t n) {
+    if (ref.size() < n) {
+      ref.resize(n);
+      cur.resize(n);
+      length.resize(n);
+    }
+    const std::size_t w = (n + 63) / 64;
+    if (adjacency.size() < n * w) adjacency.resize(n * w);
+  }
+
+  std::size_t size_ = 0, words_ = 0;
+  std::vector<std::uint64_t> adjacency;
+};
+
+}  // namespace ckpd
