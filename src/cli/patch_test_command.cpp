@@ -1,0 +1,52 @@
+#include "src/cli/patch_test_command.hpp"
+
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "bodies/patch_test.hpp"
+
+namespace ckpd {
+
+namespace {
+struct PatchTestOptions {
+  int dimension = 3;
+  double m = 3.015;
+  double youngs_modulus = 210e9;
+  double poisson_ratio = 0.3;
+  std::string plane = "stress";
+};
+}  // namespace
+
+void add_patch_test_command(CLI::App& app) {
+  auto opt = std::make_shared<PatchTestOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "patch-test",
+      "Stiffness error of a lattice discretisation: N1, N2, N3 of an interior point and its "
+      "strain-energy density over the continuum's for volumetric, shear and uniaxial strain");
+  cmd->add_option("--dim", opt->dimension, "dimension, 2 or 3")->check(CLI::IsMember({2, 3}));
+  cmd->add_option("--m", opt->m, "horizon ratio delta/dx")->check(CLI::Range(1.0, 12.0));
+  cmd->add_option("--E", opt->youngs_modulus, "Young's modulus [Pa]");
+  cmd->add_option("--nu", opt->poisson_ratio, "Poisson's ratio");
+  cmd->add_option("--plane", opt->plane, "2D only: stress or strain")
+      ->check(CLI::IsMember({"stress", "strain"}));
+  cmd->callback([opt]() {
+    const PlaneMode plane =
+        opt->dimension == 2 ? plane_mode_from_string(opt->plane) : PlaneMode::none;
+    const PatchTestResult r =
+        run_patch_test(opt->dimension, opt->m, opt->youngs_modulus, opt->poisson_ratio, plane);
+    nlohmann::ordered_json j;
+    j["dimension"] = opt->dimension;
+    j["m"] = opt->m;
+    j["E"] = opt->youngs_modulus;
+    j["nu"] = opt->poisson_ratio;
+    if (opt->dimension == 2) j["plane"] = opt->plane;
+    j["N1"] = r.n1;
+    j["N2"] = r.n2;
+    j["N3"] = r.n3;
+    j["ratio"] = {{"volumetric", r.volumetric}, {"shear", r.shear}, {"uniaxial", r.uniaxial}};
+    std::cout << j.dump(2) << '\n';
+  });
+}
+
+}  // namespace ckpd
