@@ -28,8 +28,8 @@ PointResult evaluate_point(const Body& body, std::size_t i, FamilyScratch& s) {
       const Vec3 area = p.cross(q);
       const double an = area.norm();
       // (1/A - 1/|a|) a, written so that a collapsed triangle (|a| = 0) gives a finite force.
-      const Vec3 g = area / A - (an > 0 ? Vec3(area / an) : Vec3::Zero());
-      b += (2 * c2 * dv2) * (q - p).cross(g);
+      const double f = 1 / A - (an > 0 ? 1 / an : 0.0);
+      b += (2 * c2 * dv2 * f) * (q - p).cross(area);
       const double e = an / A - 1;
       w2 += c2 * A * e * e * dv2;  // 2 orders x psi2
     });

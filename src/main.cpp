@@ -4,18 +4,28 @@
 #include <iostream>
 
 #include "src/cli/patch_test_command.hpp"
+#include "src/cli/run_command.hpp"
+#include "src/scene/case_node.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"ckpd: continuum-kinematics-based peridynamics impact simulator"};
   app.require_subcommand(1);
+  int exit_status = 0;
+  ckpd::add_run_command(app, exit_status);
   ckpd::add_patch_test_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const ckpd::CaseError& e) {
+    std::cerr << "ckpd: error: " << e.what() << '\n';
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "ckpd: error: " << e.what() << '\n';
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "ckpd: error: " << e.what() << '\n';
     return 1;
   }
-  return 0;
+  return exit_status;
 }

@@ -1,0 +1,65 @@
+#pragma once
+// CKPD internal force density (MODEL.md section 2) with every interaction evaluated ONCE.
+//
+// The reference kernel (internal_force.hpp) visits each point's family and so computes every
+// bond twice, every triangle three times and every tetrahedron four times. The sums are exact
+// rewritings of per-set terms (MODEL.md section 2), so here each unordered set is enumerated
+// once, from its smallest-index vertex i, and its geometry gives every vertex c its share:
+//   bond {i,j}:        c1 (1/L - 1/l) dx^ic dV1^c              (if the bond is intact)
+//   triangle {i,j,k}:  -2 C2 dV2^c (|a|/A - 1) d|a|/dx^c         (if c's two bonds are intact)
+//   tetrahedron:       -6 C3 dV3^c (v/|V| - sign v) dv/dx^c      (if c's three bonds are intact)
+// A set is left out for vertex c exactly when the reference leaves it out of c's family: the
+// degeneracy test is made from c's own perspective (MODEL.md section 1), with a screen that
+// decides without the extra arithmetic whenever the answer cannot differ between vertices.
+//
+// The result equals compute_internal_force to round-off and is deterministic for a given
+// number of OpenMP threads: each thread accumulates into its own whole-body arrays over a
+// static schedule, and the arrays are summed in thread order.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "bodies/body.hpp"
+
+namespace ckpd {
+
+// What one evaluation did (sets counted once; those with no active, non-degenerate vertex
+// are not counted).
+struct SymmetricKernelStats {
+  std::uint64_t bonds = 0;
+  std::uint64_t triangles = 0;
+  std::uint64_t tetrahedra = 0;
+};
+
+struct SymmetricKernelThread;  // per-thread scratch, defined in the .cpp
+
+// Scratch that survives between calls so that steady-state evaluations allocate nothing. It
+// only grows. One workspace must not be used by two calls at the same time.
+class SymmetricKernelWorkspace {
+ public:
+  SymmetricKernelWorkspace();
+  ~SymmetricKernelWorkspace();
+  SymmetricKernelWorkspace(const SymmetricKernelWorkspace&) = delete;
+  SymmetricKernelWorkspace& operator=(const SymmetricKernelWorkspace&) = delete;
+
+  SymmetricKernelThread& thread(std::size_t t) { return *threads_[t]; }
+  void ensure_threads(std::size_t count);
+
+ private:
+  std::vector<std::unique_ptr<SymmetricKernelThread>> threads_;
+};
+
+// body.force_density = b1 + b2 + b3 (overwritten); with `with_energy`, also
+// body.strain_energy_density = W1/2 + W2/3 + W3/4. Same contract as compute_internal_force.
+// This overload keeps its scratch in a workspace private to the calling (host) thread.
+void compute_internal_force_symmetric(Body& body, bool with_energy);
+SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_energy,
+                                                      SymmetricKernelWorkspace& workspace);
+
+// The ordered, non-degenerate two- and three-neighbour counts per point as this kernel's
+// enumeration and degeneracy decisions see them (all bonds, intact or not). They must equal
+// body.n2 and body.n3; tests use this to prove that the per-vertex decisions agree.
+void count_interactions_symmetric(const Body& body, std::vector<std::uint32_t>& n2,
+                                  std::vector<std::uint32_t>& n3);
+
+}  // namespace ckpd

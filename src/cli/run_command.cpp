@@ -1,0 +1,110 @@
+#include "src/cli/run_command.hpp"
+
+#include <omp.h>
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "src/engine/simulation.hpp"
+#include "src/output/run_output.hpp"
+#include "src/scene/case_loader.hpp"
+
+namespace ckpd {
+
+namespace {
+
+struct RunOptions {
+  std::string case_file;
+  std::string out_dir;
+  std::vector<std::string> overrides;
+  int threads = 0;
+  bool quiet = false;
+};
+
+void print_setup(const Simulation& sim, std::ostream& os) {
+  for (const SceneBody& sb : sim.scene().bodies) {
+    const Body& b = sb.body;
+    os << "body '" << b.name << "': " << b.dimension << "D, " << b.size() << " points, "
+       << b.bond_count() << " bonds, N2 " << b.total_two_neighbour() << ", N3 "
+       << b.total_three_neighbour() << ", dx " << sb.spacing << " m, horizon " << b.horizon
+       << " m, C1 " << b.constants.c1 << ", C2 " << b.constants.c2 << ", C3 " << b.constants.c3
+       << ", critical stretch " << (b.damage_enabled ? std::to_string(b.critical_stretch) : "none")
+       << '\n';
+  }
+  const StepChoice& s = sim.step_choice();
+  os << "time step: estimate " << s.estimate << " s (body '" << s.limiting_body << "', point "
+     << s.limiting_point << "), " << (s.user_dt ? "case dt " : "safety ") << s.safety
+     << " x estimate -> dt " << s.dt << " s, " << sim.planned_steps() << " steps\n";
+}
+
+int run(const RunOptions& opt) {
+  if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  const auto start = std::chrono::steady_clock::now();
+  Scene scene = load_scene(opt.case_file, opt.overrides);
+  Simulation sim(scene);
+  if (!opt.quiet) print_setup(sim, std::cout);
+
+  std::string out = opt.out_dir;
+  if (out.empty()) out = "runs/" + std::filesystem::path(opt.case_file).stem().string();
+  std::error_code ec;
+  std::filesystem::create_directories(out, ec);
+  if (ec || !std::filesystem::is_directory(out))
+    throw std::runtime_error(out + ": cannot create the output directory");
+  HistoryWriter history(out + "/history.csv");
+  // Summaries of earlier runs in this folder must not pass for this one's.
+  std::filesystem::remove(out + "/summary.json", ec);
+
+  const long long total = sim.planned_steps();
+  const long long interval = scene.output.history_interval > 0
+                                 ? scene.output.history_interval
+                                 : std::max<long long>(1, total / 200);
+  history.write_row(sim);
+  auto last_report = start;
+  auto seconds = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  try {
+    while (sim.step() < total) {
+      const bool row = (sim.step() + 1) % interval == 0 || sim.step() + 1 == total;
+      sim.advance(row);
+      if (row) history.write_row(sim);
+      const auto now = std::chrono::steady_clock::now();
+      if (!opt.quiet && now - last_report > std::chrono::seconds(5)) {
+        last_report = now;
+        std::cout << "step " << sim.step() << "/" << total << ", t = " << sim.time()
+                  << " s, max damage " << sim.max_damage() << ", " << seconds() << " s\n"
+                  << std::flush;
+      }
+    }
+  } catch (const InstabilityError& e) {
+    history.write_row(sim);
+    write_json(out + "/summary.json", make_summary(sim, "unstable", e.what(), seconds()));
+    std::cerr << "ckpd: " << e.what() << "\nckpd: results up to that step are in " << out << '\n';
+    return 3;
+  }
+  write_json(out + "/summary.json", make_summary(sim, "completed", "", seconds()));
+  if (!opt.quiet) {
+    std::cout << "completed " << sim.step() << " steps in " << seconds() << " s; peak RSS "
+              << peak_rss_mb() << " MB; max damage " << sim.max_damage() << "; results in " << out
+              << '\n';
+  }
+  return 0;
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app, int& exit_status) {
+  auto opt = std::make_shared<RunOptions>();
+  CLI::App* cmd = app.add_subcommand("run", "Run a case file");
+  cmd->add_option("case", opt->case_file, "case file (YAML)")->required();
+  cmd->add_option("--out", opt->out_dir, "output directory (default: runs/<case name>)");
+  cmd->add_option("--set", opt->overrides, "override a case value: key.path=value (repeatable)");
+  cmd->add_option("--threads", opt->threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--quiet", opt->quiet, "print nothing but errors");
+  cmd->callback([opt, &exit_status]() { exit_status = run(*opt); });
+}
+
+}  // namespace ckpd

@@ -1,0 +1,48 @@
+#include "src/engine/condition.hpp"
+
+#include "src/geometry/shape.hpp"
+
+namespace ckpd {
+
+std::map<std::string, ConditionFactory>& condition_registry() {
+  static std::map<std::string, ConditionFactory> registry;
+  return registry;
+}
+
+bool register_condition(const std::string& type, ConditionFactory factory) {
+  condition_registry()[type] = std::move(factory);
+  return true;
+}
+
+std::unique_ptr<Condition> make_condition(const CaseNode& node, const ConditionTarget& target) {
+  const CaseNode type = node.required("type");
+  const auto& registry = condition_registry();
+  const auto it = registry.find(type.as_string());
+  if (it == registry.end()) {
+    std::string known;
+    for (const auto& [name, f] : registry) known += (known.empty() ? "" : ", ") + name;
+    type.fail("a condition type (" + known + ")");
+  }
+  std::unique_ptr<Condition> c = it->second(node, target);
+  node.finish();
+  return c;
+}
+
+std::vector<std::uint32_t> select_points(const std::optional<CaseNode>& region,
+                                         const ConditionTarget& target) {
+  const Body& body = target.body;
+  std::vector<std::uint32_t> points;
+  if (!region) {
+    points.resize(body.size());
+    for (std::size_t i = 0; i < body.size(); ++i) points[i] = static_cast<std::uint32_t>(i);
+    return points;
+  }
+  const std::unique_ptr<Shape> shape = make_shape(*region, body.dimension);
+  for (std::size_t i = 0; i < body.size(); ++i)
+    if (shape->contains(body.reference_position[i])) points.push_back(static_cast<std::uint32_t>(i));
+  if (points.empty())
+    throw CaseError(region->where() + ": the region holds no point of body '" + body.name + "'");
+  return points;
+}
+
+}  // namespace ckpd

@@ -1,0 +1,60 @@
+#pragma once
+// Initial and boundary conditions and loads (MODEL.md section 7). Each is one small class,
+// registered by its `type` name in its own file (like a LAMMPS fix); the case loader builds them
+// generically and the time integrator calls them through this interface, once per condition and
+// step, never per point through a virtual call.
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bodies/body.hpp"
+#include "src/scene/case_node.hpp"
+
+namespace ckpd {
+
+// What a factory needs to know about the body a condition acts on.
+struct ConditionTarget {
+  const Body& body;
+  double spacing;  // lattice spacing dx of the body
+};
+
+class Condition {
+ public:
+  virtual ~Condition() = default;
+  // The points it acts on (selected once, in the reference configuration).
+  const std::vector<std::uint32_t>& points() const { return points_; }
+  // Once, before the first force evaluation.
+  virtual void initialise(Body&) const {}
+  // Adds its external force density at time t to body.external_force_density.
+  virtual void add_external_force(Body&, double /*t*/) const {}
+  // Bit c set: this condition prescribes the motion of component c of its points.
+  virtual std::uint8_t prescribed_components() const { return 0; }
+  // Prescribed velocity and acceleration of component c at time t (for prescribed components).
+  virtual double prescribed_velocity(int /*component*/, double /*t*/) const { return 0; }
+  virtual double prescribed_acceleration(int /*component*/, double /*t*/) const { return 0; }
+  // The largest speed this condition imposes (for the instability guard's speed limit).
+  virtual double max_speed() const { return 0; }
+
+ protected:
+  std::vector<std::uint32_t> points_;
+};
+
+using ConditionFactory =
+    std::function<std::unique_ptr<Condition>(const CaseNode&, const ConditionTarget&)>;
+std::map<std::string, ConditionFactory>& condition_registry();
+bool register_condition(const std::string& type, ConditionFactory factory);
+
+// Builds the condition described by `node` (its `type` and its own keys; `body` has been read
+// by the caller). Unknown types and keys are errors.
+std::unique_ptr<Condition> make_condition(const CaseNode& node, const ConditionTarget& target);
+
+// The points of `body` whose reference position lies in the shape given by `region` (all points
+// when `region` is absent). An empty selection is an error: a condition that acts on nothing is
+// almost always a misplaced region.
+std::vector<std::uint32_t> select_points(const std::optional<CaseNode>& region,
+                                         const ConditionTarget& target);
+
+}  // namespace ckpd

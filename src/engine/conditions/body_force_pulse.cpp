@@ -1,0 +1,64 @@
+// `pressure_pulse`: the body-force pulse of MODEL.md section 7 on a layer of points,
+// b_ext = p(t)/dx n with p(t) = -4 p0/t1^2 (t - t1/2)^2 + p0 for t <= t1, else 0. `peak` is p0
+// (N/m in 2D, N/m^2 in 3D), `duration` t1, `direction` n (normalised here).
+#include "src/engine/condition.hpp"
+
+namespace ckpd {
+
+namespace {
+
+class BodyForcePulse : public Condition {
+ public:
+  BodyForcePulse(std::vector<std::uint32_t> points, double peak, double duration, Vec3 direction,
+                 double spacing)
+      : peak_(peak), duration_(duration), direction_(direction.normalized()), spacing_(spacing) {
+    points_ = std::move(points);
+  }
+  void add_external_force(Body& body, double t) const override {
+    if (t > duration_) return;
+    const double h = t - duration_ / 2;
+    const double p = -4 * peak_ / (duration_ * duration_) * h * h + peak_;
+    const Vec3 b = (p / spacing_) * direction_;
+    for (std::uint32_t i : points_) body.external_force_density[i] += b;
+  }
+
+ private:
+  double peak_, duration_;
+  Vec3 direction_;
+  double spacing_;
+};
+
+const bool registered =
+    register_condition("pressure_pulse", [](const CaseNode& n, const ConditionTarget& t) {
+      const int dim = t.body.dimension;
+      auto points = select_points(n.optional("region"), t);
+      const double peak = n.required("peak").as_double();
+      const double duration = n.required("duration").as_positive();
+      const CaseNode dn = n.required("direction");
+      const Vec3 direction = dn.as_vector(dim);
+      if (direction.norm() == 0) dn.fail("a non-zero direction");
+      return std::unique_ptr<Condition>(
+          new BodyForcePulse(std::move(points), peak, duration, direction, t.spacing));
+    });
+
+const bool gravity_registered =
+    register_condition("gravity", [](const CaseNode& n, const ConditionTarget& t) {
+      // A uniform acceleration g: body force density rho g on every point (or a region).
+      class Gravity : public Condition {
+       public:
+        Gravity(std::vector<std::uint32_t> p, Vec3 b) : b_(b) { points_ = std::move(p); }
+        void add_external_force(Body& body, double) const override {
+          for (std::uint32_t i : points_) body.external_force_density[i] += b_;
+        }
+
+       private:
+        Vec3 b_;
+      };
+      auto points = select_points(n.optional("region"), t);
+      const Vec3 g = n.required("acceleration").as_vector(t.body.dimension);
+      return std::unique_ptr<Condition>(new Gravity(std::move(points), t.body.density * g));
+    });
+
+}  // namespace
+
+}  // namespace ckpd

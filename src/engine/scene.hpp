@@ -1,0 +1,40 @@
+#pragma once
+// What a run needs, assembled from a case file: the bodies with their conditions, the time and
+// output settings.
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bodies/body.hpp"
+#include "src/engine/condition.hpp"
+
+namespace ckpd {
+
+struct SceneBody {
+  Body body;
+  double spacing = 0;  // lattice spacing dx
+  std::vector<std::unique_ptr<Condition>> conditions;
+};
+
+struct TimeSettings {
+  double end_time = std::numeric_limits<double>::quiet_NaN();  // run until this time, or
+  long long steps = -1;                                        // this many steps
+  std::optional<double> dt;  // none: safety x the stable-step estimate
+  double safety = 0.8;
+  bool allow_unstable_dt = false;  // accept a dt above the estimate
+};
+
+struct OutputSettings {
+  long long history_interval = 0;  // steps between history rows; 0: about 200 rows in the run
+};
+
+struct Scene {
+  std::string case_file;
+  std::vector<SceneBody> bodies;
+  TimeSettings time;
+  OutputSettings output;
+};
+
+}  // namespace ckpd

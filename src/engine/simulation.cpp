@@ -1,0 +1,245 @@
+#include "src/engine/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "bodies/damage.hpp"
+#include "bodies/internal_force.hpp"
+
+namespace ckpd {
+
+namespace {
+
+std::string format_position(const Vec3& p, int dimension) {
+  std::ostringstream s;
+  s << "(" << p.x() << ", " << p.y();
+  if (dimension == 3) s << ", " << p.z();
+  s << ") m";
+  return s.str();
+}
+
+// Velocity and acceleration of prescribed components at time t.
+void apply_prescribed_motion(SceneBody& sb, double t, bool velocity, bool acceleration) {
+  for (const auto& c : sb.conditions) {
+    const std::uint8_t mask = c->prescribed_components();
+    if (!mask) continue;
+    for (int k = 0; k < 3; ++k) {
+      if (!(mask & (1u << k))) continue;
+      const double v = c->prescribed_velocity(k, t), a = c->prescribed_acceleration(k, t);
+      for (std::uint32_t i : c->points()) {
+        if (velocity) sb.body.velocity[i][k] = v;
+        if (acceleration) sb.body.acceleration[i][k] = a;
+      }
+    }
+  }
+}
+
+// Work increment of the external loads and reactions over a displacement increment dt*v:
+// V/2 f_ext . du with f_ext = rho a - (b_total - b_ext) (for a free component that is b_ext;
+// for a prescribed one it includes the reaction). Two of these per step make the trapezoidal
+// rule in displacement.
+double half_work_increment(const Body& b, double dt) {
+  double w = 0;
+  const std::size_t n = b.size();
+#pragma omp parallel for schedule(static) reduction(+ : w)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 f = b.density * b.acceleration[i] - (b.force_density[i] - b.external_force_density[i]);
+    w += 0.5 * b.volume[i] * dt * f.dot(b.velocity[i]);
+  }
+  return w;
+}
+
+}  // namespace
+
+StepChoice choose_time_step(const Scene& scene) {
+  StepChoice c;
+  c.estimate = std::numeric_limits<double>::infinity();
+  for (const SceneBody& sb : scene.bodies) {
+    const StableStep s = stable_step(sb.body);
+    if (s.dt < c.estimate) {
+      c.estimate = s.dt;
+      c.limiting_body = sb.body.name;
+      c.limiting_point = s.point;
+      c.limiting_position = sb.body.reference_position[s.point];
+    }
+  }
+  if (!std::isfinite(c.estimate))
+    throw std::invalid_argument("no body has any interaction: the stable step is unbounded");
+  if (scene.time.dt) {
+    c.dt = *scene.time.dt;
+    c.user_dt = true;
+    if (c.dt > c.estimate && !scene.time.allow_unstable_dt) {
+      std::ostringstream msg;
+      msg << "time.dt = " << c.dt << " s exceeds the stable-step estimate " << c.estimate
+          << " s (limited by body '" << c.limiting_body << "'); lower it, use dt: auto, or set "
+          << "time.allow_unstable_dt: true to force it";
+      throw std::invalid_argument(msg.str());
+    }
+  } else {
+    c.dt = scene.time.safety * c.estimate;
+  }
+  c.safety = c.dt / c.estimate;
+  return c;
+}
+
+Simulation::Simulation(Scene& scene) : scene_(scene) {
+  step_choice_ = choose_time_step(scene_);
+  if (scene_.time.steps >= 0) {
+    planned_steps_ = scene_.time.steps;
+  } else {
+    planned_steps_ = static_cast<long long>(std::ceil(scene_.time.end_time / step_choice_.dt - 1e-9));
+  }
+  double max_speed = 0;
+  for (SceneBody& sb : scene_.bodies) {
+    for (const auto& c : sb.conditions) {
+      c->initialise(sb.body);
+      max_speed = std::max(max_speed, c->max_speed());
+    }
+    // omega_max dx bounds the fastest wave a lattice carries.
+    const double k = *std::max_element(sb.body.stiffness_bound.begin(), sb.body.stiffness_bound.end());
+    max_speed = std::max(max_speed, sb.spacing * std::sqrt(k / sb.body.density));
+  }
+  // No material point of a stable run moves at ten times the fastest wave or load speed.
+  speed_limit_ = 10 * max_speed;
+  for (const SceneBody& sb : scene_.bodies) initially_failed_.push_back(failed_bond_count(sb.body));
+  evaluate_forces(true);
+  const Energies e = energies();
+  initial_total_ = e.kinetic + e.strain;
+}
+
+void Simulation::evaluate_forces(bool with_energy) {
+  strain_energy_ = with_energy ? 0.0 : strain_energy_;
+  for (SceneBody& sb : scene_.bodies) {
+    Body& b = sb.body;
+    update_bond_failure(b);
+    std::fill(b.external_force_density.begin(), b.external_force_density.end(), Vec3::Zero());
+    for (const auto& c : sb.conditions) c->add_external_force(b, time_);
+    compute_internal_force(b, with_energy);
+    const double inv_rho = 1 / b.density;
+    const std::size_t n = b.size();
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      b.force_density[i] += b.external_force_density[i];
+      b.acceleration[i] = inv_rho * b.force_density[i];
+    }
+    apply_prescribed_motion(sb, time_, false, true);
+    if (with_energy) strain_energy_ += strain_energy(b);
+  }
+}
+
+void Simulation::advance(bool with_energy) {
+  const double dt = step_choice_.dt;
+  // Kick to t + dt/2, prescribed velocities at the midpoint (exact for a linear ramp), drift.
+  for (SceneBody& sb : scene_.bodies) {
+    Body& b = sb.body;
+    const std::size_t n = b.size();
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) b.velocity[i] += 0.5 * dt * b.acceleration[i];
+    apply_prescribed_motion(sb, time_ + 0.5 * dt, true, false);
+    external_work_ += half_work_increment(b, dt);
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) b.displacement[i] += dt * b.velocity[i];
+  }
+  time_ = static_cast<double>(step_ + 1) * dt;
+  ++step_;
+  evaluate_forces(with_energy);
+  for (SceneBody& sb : scene_.bodies) {
+    Body& b = sb.body;
+    external_work_ += half_work_increment(b, dt);
+    const std::size_t n = b.size();
+    double worst = 0;
+    std::size_t worst_point = 0;
+    bool finite = true;
+#pragma omp parallel
+    {
+      double my_worst = 0;
+      std::size_t my_point = 0;
+      bool my_finite = true;
+#pragma omp for schedule(static) nowait
+      for (std::size_t i = 0; i < n; ++i) {
+        b.velocity[i] += 0.5 * dt * b.acceleration[i];
+        const double s2 = b.velocity[i].squaredNorm();
+        if (!std::isfinite(s2) || !b.displacement[i].allFinite()) {
+          my_finite = false;
+          my_point = i;
+          my_worst = std::numeric_limits<double>::infinity();
+        } else if (s2 > my_worst && my_finite) {
+          my_worst = s2;
+          my_point = i;
+        }
+      }
+#pragma omp critical
+      {
+        if ((!my_finite && finite) || (my_finite == finite && (my_worst > worst ||
+                                                               (my_worst == worst && my_point < worst_point)))) {
+          worst = my_worst;
+          worst_point = my_point;
+        }
+        finite = finite && my_finite;
+      }
+    }
+    apply_prescribed_motion(sb, time_, true, false);
+    if (!finite || std::sqrt(worst) > speed_limit_) {
+      std::ostringstream msg;
+      msg << "instability at step " << step_ << ", t = " << time_ << " s: body '" << b.name
+          << "', point " << worst_point << " at reference "
+          << format_position(b.reference_position[worst_point], b.dimension) << " ";
+      if (!finite)
+        msg << "has a non-finite velocity or displacement";
+      else
+        msg << "moves at " << std::sqrt(worst) << " m/s, over the guard's limit of " << speed_limit_
+            << " m/s (ten times the fastest wave or load speed)";
+      msg << "; dt = " << dt << " s is " << step_choice_.safety
+          << " x the stable-step estimate";
+      throw InstabilityError(msg.str());
+    }
+  }
+  if (with_energy) check_energy();
+}
+
+void Simulation::check_energy() const {
+  const Energies e = energies();
+  const double now = e.kinetic + e.strain;
+  const double supplied = initial_total_ + std::abs(e.external_work);
+  if (now > 0 && now > 10 * supplied) {
+    std::ostringstream msg;
+    msg << "instability at step " << step_ << ", t = " << time_ << " s: kinetic + strain energy "
+        << now << " J is more than ten times the energy put in (" << supplied
+        << " J); dt = " << step_choice_.dt << " s is " << step_choice_.safety
+        << " x the stable-step estimate";
+    throw InstabilityError(msg.str());
+  }
+}
+
+Energies Simulation::energies() const {
+  Energies e;
+  for (const SceneBody& sb : scene_.bodies) {
+    const Body& b = sb.body;
+    for (std::size_t i = 0; i < b.size(); ++i)
+      e.kinetic += 0.5 * b.density * b.volume[i] * b.velocity[i].squaredNorm();
+  }
+  e.strain = strain_energy_;
+  e.external_work = external_work_;
+  e.balance_error = e.kinetic + e.strain - e.external_work - initial_total_;
+  return e;
+}
+
+std::size_t Simulation::broken_bonds(std::size_t body) const {
+  return failed_bond_count(scene_.bodies[body].body) - initially_failed_[body];
+}
+
+std::size_t Simulation::broken_bonds() const {
+  std::size_t total = 0;
+  for (std::size_t b = 0; b < scene_.bodies.size(); ++b) total += broken_bonds(b);
+  return total;
+}
+
+double Simulation::max_damage() const {
+  double d = 0;
+  for (const SceneBody& sb : scene_.bodies)
+    if (sb.body.damage_enabled) d = std::max(d, max_point_damage(sb.body));
+  return d;
+}
+
+}  // namespace ckpd

@@ -1,0 +1,78 @@
+#pragma once
+// Velocity-Verlet time integration of all bodies (MODEL.md section 6), the stable-step choice,
+// energy bookkeeping and the instability guard.
+#include <stdexcept>
+#include <string>
+
+#include "src/engine/scene.hpp"
+
+namespace ckpd {
+
+// The run went unstable; the message says where and when.
+class InstabilityError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The time step and how it was chosen.
+struct StepChoice {
+  double estimate = 0;  // the stable-step estimate (min over bodies and points)
+  double safety = 0;    // dt / estimate
+  double dt = 0;
+  bool user_dt = false;
+  std::string limiting_body;
+  std::size_t limiting_point = 0;
+  Vec3 limiting_position = Vec3::Zero();
+};
+
+// Chooses dt for the scene: safety x estimate, or the case's dt (refused when it exceeds the
+// estimate unless allow_unstable_dt). Throws std::invalid_argument when refused.
+StepChoice choose_time_step(const Scene& scene);
+
+struct Energies {
+  double kinetic = 0;
+  double strain = 0;
+  double external_work = 0;  // work done on the bodies by loads and prescribed motion
+  // kinetic + strain - external_work - (its value at t = 0): zero for exact, undamaged dynamics.
+  double balance_error = 0;
+};
+
+class Simulation {
+ public:
+  explicit Simulation(Scene& scene);
+
+  // One step. With `with_energy`, the strain energy is evaluated at the new time (and the
+  // energy guard runs). Throws InstabilityError when the guard trips.
+  void advance(bool with_energy);
+
+  double time() const { return time_; }
+  long long step() const { return step_; }
+  const StepChoice& step_choice() const { return step_choice_; }
+  long long planned_steps() const { return planned_steps_; }
+  // Energies as of the last evaluation with energy (kinetic and work are always current).
+  Energies energies() const;
+  // Bonds broken during the run (pre-cracks not counted), in all bodies / in body b.
+  std::size_t broken_bonds() const;
+  std::size_t broken_bonds(std::size_t body) const;
+  std::size_t precracked_bonds(std::size_t body) const { return initially_failed_[body]; }
+  double max_damage() const;
+  double speed_limit() const { return speed_limit_; }
+  const Scene& scene() const { return scene_; }
+
+ private:
+  void evaluate_forces(bool with_energy);
+  void check_energy() const;
+
+  Scene& scene_;
+  StepChoice step_choice_;
+  long long planned_steps_ = 0;
+  double time_ = 0;
+  long long step_ = 0;
+  double external_work_ = 0;
+  double strain_energy_ = 0;
+  double initial_total_ = 0;
+  std::vector<std::size_t> initially_failed_;
+  double speed_limit_ = 0;
+};
+
+}  // namespace ckpd

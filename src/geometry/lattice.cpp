@@ -1,0 +1,61 @@
+#include "src/geometry/lattice.hpp"
+
+#include <array>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "bodies/bond_family.hpp"
+
+namespace ckpd {
+
+std::size_t lattice_family_size(int dimension, double spacing, double horizon) {
+  const int h = static_cast<int>(std::ceil(horizon / spacing)) + 1;
+  const int zr = dimension == 3 ? h : 0;
+  std::size_t count = 0;
+  for (int z = -zr; z <= zr; ++z)
+    for (int y = -h; y <= h; ++y)
+      for (int x = -h; x <= h; ++x)
+        if ((x || y || z) && within_horizon(Vec3(x, y, z) * spacing, horizon)) ++count;
+  return count;
+}
+
+LatticeSample sample_lattice(const Shape& shape, int dimension, double dx, double horizon,
+                             std::size_t max_points) {
+  const Bounds b = shape.bounds();
+  if (!b.finite()) throw std::invalid_argument("a body's geometry must be bounded");
+  std::array<long long, 3> n{1, 1, 1};
+  double sites = 1;
+  for (int d = 0; d < dimension; ++d) {
+    // Cells across the extent, rounded: extents that are multiples of dx (up to round-off) get
+    // exactly that many cell-centred sites.
+    n[d] = std::max(1LL, static_cast<long long>(std::llround((b.hi[d] - b.lo[d]) / dx)));
+    sites *= static_cast<double>(n[d]);
+  }
+  if (sites > static_cast<double>(max_points)) {
+    std::ostringstream msg;
+    msg << "sampling would consider about " << sites << " lattice sites, over the limit of "
+        << max_points << " (raise the limit or coarsen the spacing)";
+    throw std::invalid_argument(msg.str());
+  }
+  const Vec3 centre = (b.lo + b.hi) / 2;
+  LatticeSample s;
+  const double cell = std::pow(dx, dimension);
+  for (long long k = 0; k < n[2]; ++k)
+    for (long long j = 0; j < n[1]; ++j)
+      for (long long i = 0; i < n[0]; ++i) {
+        Vec3 p = centre;
+        p.x() += (static_cast<double>(i) - (static_cast<double>(n[0]) - 1) / 2) * dx;
+        p.y() += (static_cast<double>(j) - (static_cast<double>(n[1]) - 1) / 2) * dx;
+        if (dimension == 3) p.z() += (static_cast<double>(k) - (static_cast<double>(n[2]) - 1) / 2) * dx;
+        else p.z() = 0;
+        if (shape.contains(p)) {
+          s.position.push_back(p);
+          s.volume.push_back(cell);
+        }
+      }
+  s.full_family_volume = static_cast<double>(lattice_family_size(dimension, dx, horizon)) * cell;
+  return s;
+}
+
+}  // namespace ckpd

@@ -1,0 +1,101 @@
+#include "src/output/run_output.hpp"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <iomanip>
+
+#include "bodies/damage.hpp"
+#include "bodies/fragments.hpp"
+#include <stdexcept>
+
+namespace ckpd {
+
+HistoryWriter::HistoryWriter(const std::string& path) : out_(path), path_(path) {
+  if (!out_) throw std::runtime_error(path + ": cannot write the history file");
+  out_ << "step,time,kinetic,strain,external_work,balance_error,broken_bonds,max_damage\n";
+  out_.flush();
+}
+
+void HistoryWriter::write_row(const Simulation& sim) {
+  const Energies e = sim.energies();
+  out_ << std::setprecision(10) << sim.step() << ',' << sim.time() << ',' << e.kinetic << ','
+       << e.strain << ',' << e.external_work << ',' << e.balance_error << ','
+       << sim.broken_bonds() << ',' << sim.max_damage() << '\n';
+  out_.flush();
+  if (!out_) throw std::runtime_error(path_ + ": writing the history failed");
+}
+
+double peak_rss_mb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& status,
+                                    const std::string& message, double wall_seconds) {
+  nlohmann::ordered_json j;
+  j["status"] = status;
+  if (!message.empty()) j["message"] = message;
+  j["case"] = sim.scene().case_file;
+  std::uint64_t points = 0, bonds = 0, pairs = 0, triples = 0;
+  nlohmann::ordered_json bodies = nlohmann::ordered_json::array();
+  for (std::size_t index = 0; index < sim.scene().bodies.size(); ++index) {
+    const SceneBody& sb = sim.scene().bodies[index];
+    const Body& b = sb.body;
+    points += b.size();
+    bonds += b.bond_count();
+    pairs += b.total_two_neighbour();
+    triples += b.total_three_neighbour();
+    const FragmentCensus fragments = find_fragments(b);
+    std::vector<std::size_t> sizes = fragments.size;
+    std::sort(sizes.rbegin(), sizes.rend());
+    if (sizes.size() > 10) sizes.resize(10);
+    bodies.push_back({{"name", b.name},
+                      {"dimension", b.dimension},
+                      {"points", b.size()},
+                      {"bonds", b.bond_count()},
+                      {"two_neighbour", b.total_two_neighbour()},
+                      {"three_neighbour", b.total_three_neighbour()},
+                      {"spacing", sb.spacing},
+                      {"horizon", b.horizon},
+                      {"critical_stretch", b.damage_enabled ? nlohmann::ordered_json(b.critical_stretch)
+                                                            : nlohmann::ordered_json(nullptr)},
+                      {"precracked_bonds", sim.precracked_bonds(index)},
+                      {"broken_bonds", sim.broken_bonds(index)},
+                      {"max_damage", b.damage_enabled ? max_point_damage(b) : 0.0},
+                      // Connected components of intact bonds; single points count.
+                      {"fragments", fragments.count()},
+                      {"largest_fragments", sizes}});
+  }
+  j["points"] = points;
+  j["bonds"] = bonds;
+  j["two_neighbour"] = pairs;
+  j["three_neighbour"] = triples;
+  j["steps"] = sim.step();
+  j["time"] = sim.time();
+  const StepChoice& s = sim.step_choice();
+  j["dt"] = s.dt;
+  j["dt_estimate"] = s.estimate;
+  j["dt_safety"] = s.safety;
+  j["dt_limited_by"] = {{"body", s.limiting_body}, {"point", s.limiting_point}};
+  j["wall_seconds"] = wall_seconds;
+  j["peak_rss_mb"] = peak_rss_mb();
+  j["max_damage"] = sim.max_damage();
+  j["broken_bonds"] = sim.broken_bonds();
+  const Energies e = sim.energies();
+  j["energy"] = {{"kinetic", e.kinetic},
+                 {"strain", e.strain},
+                 {"external_work", e.external_work},
+                 {"balance_error", e.balance_error}};
+  j["bodies"] = bodies;
+  return j;
+}
+
+void write_json(const std::string& path, const nlohmann::ordered_json& json) {
+  std::ofstream out(path);
+  out << json.dump(2) << '\n';
+  if (!out) throw std::runtime_error(path + ": cannot write");
+}
+
+}  // namespace ckpd

@@ -1,0 +1,31 @@
+#pragma once
+// What a run writes: DIR/history.csv, one row per history interval, flushed as written so an
+// interrupted run keeps its rows; DIR/summary.json at the end, with the run's status.
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "src/engine/simulation.hpp"
+
+namespace ckpd {
+
+class HistoryWriter {
+ public:
+  // Throws std::runtime_error naming the path when it cannot be written.
+  explicit HistoryWriter(const std::string& path);
+  void write_row(const Simulation& sim);
+
+ private:
+  std::ofstream out_;
+  std::string path_;
+};
+
+// Peak resident set size of this process in MB.
+double peak_rss_mb();
+
+// The summary object: status ("completed", "unstable", ...), counts, time step, energies.
+nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& status,
+                                    const std::string& message, double wall_seconds);
+void write_json(const std::string& path, const nlohmann::ordered_json& json);
+
+}  // namespace ckpd

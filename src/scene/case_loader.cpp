@@ -1,0 +1,239 @@
+#include "src/scene/case_loader.hpp"
+
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "bodies/material.hpp"
+#include "src/geometry/lattice.hpp"
+#include "src/geometry/shape.hpp"
+
+namespace ckpd {
+
+namespace {
+
+constexpr std::size_t kDefaultMaxPoints = 20'000'000;
+
+struct MaterialSpec {
+  double density = 0, youngs_modulus = 0, poisson_ratio = 0;
+  std::optional<double> fracture_energy, critical_stretch;
+  CaseNode node;
+};
+
+std::map<std::string, MaterialSpec> read_materials(const CaseNode& root) {
+  std::map<std::string, MaterialSpec> materials;
+  for (const auto& [name, m] : root.required("materials").entries()) {
+    MaterialSpec spec{0, 0, 0, std::nullopt, std::nullopt, m};
+    spec.density = m.required("density").as_positive();
+    spec.youngs_modulus = m.required("youngs_modulus").as_positive();
+    const CaseNode nu = m.required("poisson_ratio");
+    spec.poisson_ratio = nu.as_double();
+    if (!(spec.poisson_ratio > -1 && spec.poisson_ratio < 0.5))
+      nu.fail("a Poisson's ratio in (-1, 0.5)");
+    if (auto g = m.optional("fracture_energy")) spec.fracture_energy = g->as_positive();
+    if (auto s = m.optional("critical_stretch")) spec.critical_stretch = s->as_positive();
+    if (spec.fracture_energy && spec.critical_stretch)
+      m.fail("either fracture_energy or critical_stretch, not both");
+    m.finish();
+    materials.emplace(name, std::move(spec));
+  }
+  if (materials.empty()) root.required("materials").fail("at least one material");
+  return materials;
+}
+
+std::vector<Precrack> read_precracks(const CaseNode& list, int dimension) {
+  std::vector<Precrack> cracks;
+  for (const CaseNode& c : list.elements()) {
+    Precrack crack;
+    for (const CaseNode& corner : c.elements()) crack.corners.push_back(corner.as_vector(dimension));
+    if (dimension == 2 && crack.corners.size() != 2)
+      c.fail("a 2D pre-crack as a segment: a list of 2 points");
+    if (dimension == 3 && crack.corners.size() < 3)
+      c.fail("a 3D pre-crack as a planar polygon: a list of 3 or more corners");
+    cracks.push_back(std::move(crack));
+  }
+  return cracks;
+}
+
+SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>& materials) {
+  BodyDefinition def;
+  def.name = n.required("name").as_string();
+  const CaseNode material_node = n.required("material");
+  const auto mit = materials.find(material_node.as_string());
+  if (mit == materials.end()) material_node.fail("the name of a material in `materials`");
+  const MaterialSpec& mat = mit->second;
+
+  def.dimension = 3;
+  if (auto d = n.optional("dimension")) {
+    def.dimension = static_cast<int>(d->as_integer());
+    if (def.dimension != 2 && def.dimension != 3) d->fail("2 or 3");
+  }
+  PlaneMode plane = def.dimension == 2 ? PlaneMode::stress : PlaneMode::none;
+  if (auto p = n.optional("plane")) {
+    if (def.dimension != 2) p->fail("no `plane` key on a 3D body");
+    try {
+      plane = plane_mode_from_string(p->as_string());
+    } catch (const std::invalid_argument&) {
+      p->fail("'stress' or 'strain'");
+    }
+  }
+  const double spacing = n.required("spacing").as_positive();
+  const auto horizon_node = n.optional("horizon");
+  const auto ratio_node = n.optional("horizon_ratio");
+  if (horizon_node && ratio_node) n.fail("either horizon or horizon_ratio, not both");
+  if (!horizon_node && !ratio_node) n.fail("a horizon (or horizon_ratio = horizon / spacing)");
+  def.horizon = horizon_node ? horizon_node->as_positive() : ratio_node->as_positive() * spacing;
+  if (def.horizon < spacing) {
+    std::ostringstream msg;
+    msg << "a horizon of at least the spacing (" << spacing << " m), else no point has a bond; got "
+        << def.horizon << " m";
+    (horizon_node ? *horizon_node : *ratio_node).fail(msg.str());
+  }
+
+  std::size_t max_points = kDefaultMaxPoints;
+  if (auto m = n.optional("max_points")) {
+    const long long v = m->as_integer();
+    if (v <= 0) m->fail("a positive point limit");
+    max_points = static_cast<std::size_t>(v);
+  }
+  const CaseNode geometry = n.required("geometry");
+  const std::unique_ptr<Shape> shape = make_shape(geometry, def.dimension);
+  LatticeSample sample;
+  try {
+    sample = sample_lattice(*shape, def.dimension, spacing, def.horizon, max_points);
+  } catch (const std::invalid_argument& e) {
+    geometry.fail(std::string("a geometry that can be sampled (") + e.what() + ")");
+  }
+  if (sample.position.empty())
+    throw CaseError(geometry.where() + ": body '" + def.name +
+                    "' has no points: the geometry holds no lattice site at spacing " +
+                    std::to_string(spacing) + " m");
+  def.reference_position = std::move(sample.position);
+  def.volume = std::move(sample.volume);
+  def.full_family_volume = sample.full_family_volume;
+  def.density = mat.density;
+
+  try {
+    def.constants = interaction_constants(def.dimension, mat.youngs_modulus, mat.poisson_ratio,
+                                          plane, def.horizon);
+    if (mat.critical_stretch) {
+      def.critical_stretch = *mat.critical_stretch;
+    } else if (mat.fracture_energy) {
+      def.critical_stretch =
+          critical_stretch_from_fracture_energy(def.dimension, mat.youngs_modulus,
+                                                mat.poisson_ratio, plane, def.horizon,
+                                                *mat.fracture_energy);
+    }
+  } catch (const std::invalid_argument& e) {
+    mat.node.fail(std::string("constants valid for body '") + def.name + "' (" + e.what() + ")");
+  }
+
+  if (auto p = n.optional("precracks")) def.precracks = read_precracks(*p, def.dimension);
+  if (auto zones = n.optional("no_failure")) {
+    def.no_failure.assign(def.reference_position.size(), 0);
+    for (const CaseNode& z : zones->elements()) {
+      const std::unique_ptr<Shape> zone = make_shape(z, def.dimension);
+      std::size_t hits = 0;
+      for (std::size_t i = 0; i < def.reference_position.size(); ++i)
+        if (zone->contains(def.reference_position[i])) {
+          def.no_failure[i] = 1;
+          ++hits;
+        }
+      if (!hits) z.fail("a no-failure zone that holds at least one point");
+    }
+  }
+  n.finish();
+
+  SceneBody sb;
+  try {
+    sb.body = make_body(std::move(def));
+  } catch (const std::invalid_argument& e) {
+    throw CaseError(n.where() + ": " + e.what());
+  }
+  sb.spacing = spacing;
+  return sb;
+}
+
+void read_conditions(const CaseNode& list, Scene& scene) {
+  for (const CaseNode& c : list.elements()) {
+    const CaseNode body_node = c.required("body");
+    const std::string name = body_node.as_string();
+    SceneBody* target = nullptr;
+    for (SceneBody& sb : scene.bodies)
+      if (sb.body.name == name) target = &sb;
+    if (!target) body_node.fail("the name of a body in `bodies`");
+    std::unique_ptr<Condition> condition =
+        make_condition(c, ConditionTarget{target->body, target->spacing});
+    // Two conditions prescribing the same component of the same point contradict each other.
+    const std::uint8_t mask = condition->prescribed_components();
+    if (mask) {
+      for (const auto& other : target->conditions) {
+        const std::uint8_t both = mask & other->prescribed_components();
+        if (!both) continue;
+        const auto& a = condition->points();
+        const auto& b = other->points();
+        std::vector<std::uint8_t> marked(target->body.size(), 0);
+        for (auto i : b) marked[i] = 1;
+        for (auto i : a)
+          if (marked[i])
+            c.fail("a condition that does not prescribe the motion of points another condition "
+                   "already prescribes (point " + std::to_string(i) + " of body '" + name + "')");
+      }
+    }
+    target->conditions.push_back(std::move(condition));
+  }
+}
+
+TimeSettings read_time(const CaseNode& t) {
+  TimeSettings s;
+  const auto end = t.optional("end");
+  const auto steps = t.optional("steps");
+  if (end && steps) t.fail("either end (a time in s) or steps, not both");
+  if (!end && !steps) t.fail("an end time (end) or a number of steps (steps)");
+  if (end) s.end_time = end->as_positive();
+  if (steps) {
+    s.steps = steps->as_integer();
+    if (s.steps < 0) steps->fail("a non-negative number of steps");
+  }
+  if (auto dt = t.optional("dt")) {
+    if (!(dt->is_scalar() && dt->as_string() == "auto")) s.dt = dt->as_positive();
+  }
+  if (auto f = t.optional("safety")) {
+    s.safety = f->as_positive();
+    if (s.safety > 1) f->fail("a safety factor in (0, 1]");
+  }
+  if (auto a = t.optional("allow_unstable_dt")) s.allow_unstable_dt = a->as_bool();
+  t.finish();
+  return s;
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& case_file, const std::vector<std::string>& overrides) {
+  const CaseNode root(load_case_yaml(case_file, overrides), case_file);
+  Scene scene;
+  scene.case_file = case_file;
+  if (auto d = root.optional("description")) d->as_string();
+  const auto materials = read_materials(root);
+  const CaseNode bodies = root.required("bodies");
+  for (const CaseNode& b : bodies.elements()) {
+    SceneBody sb = read_body(b, materials);
+    for (const SceneBody& other : scene.bodies)
+      if (other.body.name == sb.body.name) b.fail("a body name used once (" + sb.body.name + ")");
+    scene.bodies.push_back(std::move(sb));
+  }
+  if (scene.bodies.empty()) bodies.fail("at least one body");
+  if (auto c = root.optional("conditions")) read_conditions(*c, scene);
+  scene.time = read_time(root.required("time"));
+  if (auto o = root.optional("output")) {
+    if (auto h = o->optional("history_interval")) {
+      scene.output.history_interval = h->as_integer();
+      if (scene.output.history_interval <= 0) h->fail("a positive number of steps");
+    }
+    o->finish();
+  }
+  root.finish();
+  return scene;
+}
+
+}  // namespace ckpd

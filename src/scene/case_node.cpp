@@ -1,0 +1,222 @@
+#include "src/scene/case_node.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+namespace ckpd {
+
+namespace {
+
+std::string child_path(const std::string& parent, const std::string& key) {
+  return parent.empty() ? key : parent + "." + key;
+}
+
+std::string node_text(const YAML::Node& node) {
+  if (node.IsScalar()) return "'" + node.Scalar() + "'";
+  if (node.IsSequence()) return "a list";
+  if (node.IsMap()) return "a map";
+  return "nothing";
+}
+
+}  // namespace
+
+CaseNode::CaseNode(YAML::Node node, std::string file, std::string path)
+    : node_(std::move(node)),
+      file_(std::move(file)),
+      path_(std::move(path)),
+      used_(std::make_shared<std::set<std::string>>()) {}
+
+std::string CaseNode::where() const {
+  std::ostringstream s;
+  s << file_;
+  const YAML::Mark mark = node_.Mark();
+  if (mark.line >= 0) s << ":" << mark.line + 1;
+  s << ": " << (path_.empty() ? "(top level)" : path_);
+  return s.str();
+}
+
+void CaseNode::fail(const std::string& expected) const {
+  throw CaseError(where() + ": expected " + expected + ", got " + node_text(node_));
+}
+
+bool CaseNode::has(const std::string& key) const { return node_.IsMap() && node_[key]; }
+
+std::optional<CaseNode> CaseNode::optional(const std::string& key) const {
+  if (!node_.IsMap()) fail("a map");
+  used_->insert(key);
+  const YAML::Node child = node_[key];
+  if (!child || child.IsNull()) return std::nullopt;
+  return CaseNode(child, file_, child_path(path_, key));
+}
+
+CaseNode CaseNode::required(const std::string& key) const {
+  if (!node_.IsMap()) fail("a map with key '" + key + "'");
+  auto child = optional(key);
+  if (!child) throw CaseError(where() + ": missing required key '" + key + "'");
+  return *child;
+}
+
+std::vector<CaseNode> CaseNode::elements() const {
+  if (!node_.IsSequence()) fail("a list");
+  std::vector<CaseNode> out;
+  for (std::size_t i = 0; i < node_.size(); ++i)
+    out.emplace_back(node_[i], file_, path_ + "[" + std::to_string(i) + "]");
+  return out;
+}
+
+std::vector<std::pair<std::string, CaseNode>> CaseNode::entries() const {
+  if (!node_.IsMap()) fail("a map");
+  std::vector<std::pair<std::string, CaseNode>> out;
+  for (const auto& kv : node_) {
+    const std::string key = kv.first.as<std::string>();
+    used_->insert(key);
+    out.emplace_back(key, CaseNode(kv.second, file_, child_path(path_, key)));
+  }
+  return out;
+}
+
+double CaseNode::as_double() const {
+  if (!node_.IsScalar()) fail("a number");
+  const std::string& text = node_.Scalar();
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    fail("a number");
+  }
+  if (used != text.size() || !std::isfinite(value)) fail("a finite number");
+  return value;
+}
+
+double CaseNode::as_positive() const {
+  const double v = as_double();
+  if (!(v > 0)) fail("a positive number");
+  return v;
+}
+
+double CaseNode::as_non_negative() const {
+  const double v = as_double();
+  if (!(v >= 0)) fail("a non-negative number");
+  return v;
+}
+
+long long CaseNode::as_integer() const {
+  const double v = as_double();
+  if (v != std::floor(v) || std::abs(v) > 9e15) fail("an integer");
+  return static_cast<long long>(v);
+}
+
+bool CaseNode::as_bool() const {
+  if (!node_.IsScalar()) fail("true or false");
+  const std::string& t = node_.Scalar();
+  if (t == "true" || t == "yes" || t == "on") return true;
+  if (t == "false" || t == "no" || t == "off") return false;
+  fail("true or false");
+}
+
+std::string CaseNode::as_string() const {
+  if (!node_.IsScalar()) fail("a string");
+  return node_.Scalar();
+}
+
+std::vector<double> CaseNode::as_doubles() const {
+  std::vector<double> out;
+  for (const CaseNode& e : elements()) out.push_back(e.as_double());
+  return out;
+}
+
+Vec3 CaseNode::as_vector(int dimension) const {
+  if (!node_.IsSequence() || static_cast<int>(node_.size()) != dimension)
+    fail("a list of " + std::to_string(dimension) + " numbers (the body's dimension)");
+  const std::vector<double> v = as_doubles();
+  return Vec3(v[0], v[1], dimension == 3 ? v[2] : 0.0);
+}
+
+void CaseNode::finish() const {
+  if (!node_.IsMap()) return;
+  for (const auto& kv : node_) {
+    const std::string key = kv.first.as<std::string>();
+    if (!used_->count(key)) {
+      std::ostringstream s;
+      s << file_ << ":" << kv.first.Mark().line + 1 << ": " << child_path(path_, key)
+        << ": unknown key '" << key << "'";
+      std::string known;
+      for (const auto& k : *used_) known += (known.empty() ? "" : ", ") + k;
+      if (!known.empty()) s << " (expected one of: " << known << ")";
+      throw CaseError(s.str());
+    }
+  }
+}
+
+YAML::Node load_case_yaml(const std::string& file, const std::vector<std::string>& overrides) {
+  if (!std::filesystem::is_regular_file(file))
+    throw CaseError(file + ": case file not found (or not a regular file)");
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(file);
+  } catch (const YAML::ParserException& e) {
+    throw CaseError(file + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+  } catch (const YAML::BadFile&) {
+    throw CaseError(file + ": cannot read the case file");
+  }
+  if (!root.IsMap()) throw CaseError(file + ": a case file is a map of sections (materials, bodies, ...)");
+
+  for (const std::string& item : overrides) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw CaseError("--set " + item + ": expected key.path=value");
+    const std::string path = item.substr(0, eq), text = item.substr(eq + 1);
+    YAML::Node value;
+    try {
+      value = YAML::Load(text);
+    } catch (const YAML::Exception& e) {
+      throw CaseError("--set " + item + ": the value is not valid YAML: " + e.msg);
+    }
+    std::vector<std::string> keys;
+    std::stringstream ss(path);
+    for (std::string k; std::getline(ss, k, '.');) keys.push_back(k);
+    // yaml-cpp nodes are handles: walking with copies and assigning through them edits `root`.
+    YAML::Node node = root;
+    std::string walked;
+    for (std::size_t n = 0; n < keys.size(); ++n) {
+      const std::string& key = keys[n];
+      const bool last = n + 1 == keys.size();
+      YAML::Node next;
+      if (node.IsSequence()) {
+        bool found = false;
+        const bool numeric = !key.empty() && key.find_first_not_of("0123456789") == std::string::npos;
+        for (std::size_t e = 0; e < node.size() && !found; ++e) {
+          if ((numeric && std::stoul(key) == e) ||
+              (node[e].IsMap() && node[e]["name"] && node[e]["name"].Scalar() == key)) {
+            next.reset(node[e]);
+            found = true;
+          }
+        }
+        if (!found)
+          throw CaseError("--set " + path + ": '" + walked + "' has no element '" + key + "'");
+      } else if (node.IsMap()) {
+        if (!node[key] && !last)
+          throw CaseError("--set " + path + ": '" + (walked.empty() ? key : walked + "." + key) +
+                          "' does not exist in " + file);
+        if (last) {
+          node[key] = value;
+          break;
+        }
+        next.reset(node[key]);
+      } else {
+        throw CaseError("--set " + path + ": '" + walked + "' is a value, not a map or a list");
+      }
+      if (last) {
+        next = value;
+        break;
+      }
+      node.reset(next);
+      walked = walked.empty() ? key : walked + "." + key;
+    }
+  }
+  return root;
+}
+
+}  // namespace ckpd

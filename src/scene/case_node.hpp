@@ -1,0 +1,71 @@
+#pragma once
+// A checked view of a YAML case file. Every read names the file, the key path and the line in
+// its error; every map remembers which keys were read, so that `finish()` rejects the ones that
+// were not (a typo must never pass silently).
+#include <yaml-cpp/yaml.h>
+
+#include <memory>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bodies/vec.hpp"
+
+namespace ckpd {
+
+// Bad input in a case file: the message names file, line, key path and what was expected.
+class CaseError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class CaseNode {
+ public:
+  CaseNode(YAML::Node node, std::string file, std::string path = "");
+
+  // Map access. `required` throws when the key is missing; `optional` returns nullopt.
+  CaseNode required(const std::string& key) const;
+  std::optional<CaseNode> optional(const std::string& key) const;
+  bool has(const std::string& key) const;
+  // Sequence access.
+  std::vector<CaseNode> elements() const;
+  // All entries of a map, in file order (each key counts as read).
+  std::vector<std::pair<std::string, CaseNode>> entries() const;
+
+  bool is_map() const { return node_.IsMap(); }
+  bool is_sequence() const { return node_.IsSequence(); }
+  bool is_scalar() const { return node_.IsScalar(); }
+
+  double as_double() const;
+  double as_positive() const;      // > 0 and finite
+  double as_non_negative() const;  // >= 0 and finite
+  long long as_integer() const;
+  bool as_bool() const;
+  std::string as_string() const;
+  // A list of `dimension` numbers; in 2D the z component is 0.
+  Vec3 as_vector(int dimension) const;
+  std::vector<double> as_doubles() const;
+
+  // Throws for every key of this map that was never read.
+  void finish() const;
+
+  [[noreturn]] void fail(const std::string& expected) const;
+  const std::string& path() const { return path_; }
+  const std::string& file() const { return file_; }
+  std::string where() const;  // "file:line: path"
+
+ private:
+  YAML::Node node_;
+  std::string file_;
+  std::string path_;
+  std::shared_ptr<std::set<std::string>> used_;
+};
+
+// Loads a case file (throws CaseError for a missing file or a YAML syntax error, with the line)
+// and applies `--set key.path=value` overrides: each path must lead through existing maps and
+// sequences (a sequence element by index or by its `name`); the last key may be new.
+YAML::Node load_case_yaml(const std::string& file, const std::vector<std::string>& overrides);
+
+}  // namespace ckpd
