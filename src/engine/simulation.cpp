@@ -203,10 +203,27 @@ void Simulation::check_energy() const {
   const double now = e.kinetic + e.strain;
   const double supplied = initial_total_ + std::abs(e.external_work);
   if (now > 0 && now > 10 * supplied) {
+    // Where: the point with the largest kinetic plus strain energy.
+    const Body* where_body = nullptr;
+    std::size_t where_point = 0;
+    double largest = -1;
+    for (const SceneBody& sb : scene_.bodies) {
+      const Body& b = sb.body;
+      for (std::size_t i = 0; i < b.size(); ++i) {
+        const double density = 0.5 * b.density * b.velocity[i].squaredNorm() + b.strain_energy_density[i];
+        if (density > largest) {
+          largest = density;
+          where_body = &b;
+          where_point = i;
+        }
+      }
+    }
     std::ostringstream msg;
     msg << "instability at step " << step_ << ", t = " << time_ << " s: kinetic + strain energy "
-        << now << " J is more than ten times the energy put in (" << supplied
-        << " J); dt = " << step_choice_.dt << " s is " << step_choice_.safety
+        << now << " J is more than ten times the energy put in (" << supplied << " J), most of it at body '"
+        << where_body->name << "', point " << where_point << " at reference "
+        << format_position(where_body->reference_position[where_point], where_body->dimension)
+        << "; dt = " << step_choice_.dt << " s is " << step_choice_.safety
         << " x the stable-step estimate";
     throw InstabilityError(msg.str());
   }
