@@ -133,6 +133,16 @@ Body make_body(BodyDefinition def) {
   const std::size_t n = body.size();
 
   body.family = build_bond_family(body.reference_position, body.horizon);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (body.family.family_size(i) == 0) {
+      const Vec3& p = body.reference_position[i];
+      std::ostringstream msg;
+      msg << "body '" << body.name << "': point " << i << " at (" << p.x() << ", " << p.y() << ", "
+          << p.z() << ") has no neighbour within the horizon " << body.horizon
+          << " m (a body needs more than one point, and every point needs a bond)";
+      throw std::invalid_argument(msg.str());
+    }
+  }
   body.bond_intact.assign(body.family.bond_entries(), 1);
 
   body.beta.resize(n);
