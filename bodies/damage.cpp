@@ -76,6 +76,10 @@ std::size_t apply_precrack(Body& body, const Precrack& crack) {
       }
     }
   }
+  // Failed bonds are only skipped by the kernels when damage bookkeeping is on; a pre-cracked
+  // body without a critical stretch (no damage growth) must still not carry force across the
+  // crack. update_bond_failure then compares with s_c = +inf and fails nothing.
+  if (cut > 0) body.damage_enabled = true;
   return cut;
 }
 

@@ -20,7 +20,9 @@ bool segment_crosses_precrack(const Vec3& a, const Vec3& b, const Precrack& crac
 
 // Marks every bond that crosses the pre-crack as failed. Throws std::invalid_argument for a
 // pre-crack with the wrong number of corners for the body's dimension or a degenerate one.
-// Returns the number of bonds (each counted once) that it cut.
+// Returns the number of bonds (each counted once) that it cut. When it cuts any, it turns on
+// damage bookkeeping (Body::damage_enabled) so that the kernels skip the cut bonds even in a
+// body without a critical stretch.
 std::size_t apply_precrack(Body& body, const Precrack& crack);
 
 // Fails, for good, every intact bond whose stretch exceeds the critical stretch, except bonds
