@@ -32,6 +32,7 @@ InteractionConstants constants_for(int dimension, double nu, PlaneMode plane, do
 struct Scene {
   std::string label;
   ckpd::BodyDefinition definition;
+  bool lattice = true;
 };
 
 // The bodies the kernel comparisons run on: 2D lattices with C2 < 0 and C2 > 0, 3D lattices
@@ -39,20 +40,26 @@ struct Scene {
 std::vector<Scene> comparison_scenes() {
   std::mt19937 rng(20240611);
   std::vector<Scene> s;
-  s.push_back({"2D lattice, plane stress nu=0.2 (C2<0)",
-               lattice_block(2, 8, 7, 1, kDx, 3.015, constants_for(2, 0.2, PlaneMode::stress, 3.015))});
-  s.push_back({"2D lattice, plane stress nu=0.4 (C2>0)",
-               lattice_block(2, 8, 7, 1, kDx, 3.015, constants_for(2, 0.4, PlaneMode::stress, 3.015))});
-  s.push_back({"3D lattice, nu=0.3 (C3>0)",
-               lattice_block(3, 5, 5, 4, kDx, 2.015, constants_for(3, 0.3, PlaneMode::none, 2.015))});
-  s.push_back({"3D lattice, nu=0.1 (C3<0)",
-               lattice_block(3, 5, 4, 4, kDx, 2.515, constants_for(3, 0.1, PlaneMode::none, 2.515))});
+  s.push_back(
+      {"2D lattice, plane stress nu=0.2 (C2<0)",
+       lattice_block(2, 8, 7, 1, kDx, 3.015, constants_for(2, 0.2, PlaneMode::stress, 3.015))});
+  s.push_back(
+      {"2D lattice, plane stress nu=0.4 (C2>0)",
+       lattice_block(2, 8, 7, 1, kDx, 3.015, constants_for(2, 0.4, PlaneMode::stress, 3.015))});
+  s.push_back(
+      {"3D lattice, nu=0.3 (C3>0)",
+       lattice_block(3, 5, 5, 4, kDx, 2.015, constants_for(3, 0.3, PlaneMode::none, 2.015))});
+  s.push_back(
+      {"3D lattice, nu=0.1 (C3<0)",
+       lattice_block(3, 5, 4, 4, kDx, 2.515, constants_for(3, 0.1, PlaneMode::none, 2.515))});
   s.push_back({"2D jittered cloud, plane strain nu=0.35",
                jittered_cloud(2, 7, 7, 1, kDx, 2.8, constants_for(2, 0.35, PlaneMode::strain, 2.8),
-                              0.25, rng)});
+                              0.25, rng),
+               false});
   s.push_back({"3D jittered cloud, nu=0.15",
                jittered_cloud(3, 5, 4, 4, kDx, 2.2, constants_for(3, 0.15, PlaneMode::none, 2.2),
-                              0.25, rng)});
+                              0.25, rng),
+               false});
   return s;
 }
 
@@ -63,7 +70,7 @@ double max_norm(const std::vector<Vec3>& v) {
 }
 
 // Compares compute_internal_force and evaluate_point with the ordered reference on every point.
-void check_against_reference(Body& body) {
+void check_against_reference(Body& body, bool lattice) {
   ckpd::compute_internal_force(body, true);
   ckpd::FamilyScratch scratch;
   std::vector<ReferenceResult> reference(body.size());
@@ -78,21 +85,29 @@ void check_against_reference(Body& body) {
   }
   const double scale = max_norm(reference_force);
   REQUIRE(scale > 0);
+  double allowance = 0;
+  for (const ReferenceResult& r : reference) allowance = std::max(allowance, r.force_allowance);
+  INFO("largest rounding allowance of nearly flat sets, relative: " << allowance / scale);
+  if (lattice) CHECK(allowance == 0);
   // Energies per family, each against its own largest value (W1 and W3 have opposite signs
   // when C3 < 0, so their sum is no scale).
+  // Errors are measured beyond the rounding allowance of nearly flat sets (reference_kernel.hpp),
+  // which is zero on lattices.
   double w_scale[3] = {0, 0, 0}, w_error[3] = {0, 0, 0}, force_error = 0, density_error = 0;
   for (std::size_t i = 0; i < body.size(); ++i) {
     const ReferenceResult& r = reference[i];
     const ckpd::PointResult p = ckpd::evaluate_point(body, i, scratch);
-    force_error = std::max(force_error, (p.force_density - r.force()).norm());
-    force_error = std::max(force_error, (body.force_density[i] - r.force()).norm());
+    const double fa = r.force_allowance, ea = r.energy_allowance;
+    force_error = std::max(force_error, (p.force_density - r.force()).norm() - fa);
+    force_error = std::max(force_error, (body.force_density[i] - r.force()).norm() - fa);
     const double got[3] = {p.w1, p.w2, p.w3}, want[3] = {r.w1, r.w2, r.w3};
     for (int n = 0; n < 3; ++n) {
       w_scale[n] = std::max(w_scale[n], std::abs(want[n]));
-      w_error[n] = std::max(w_error[n], std::abs(got[n] - want[n]));
+      w_error[n] = std::max(w_error[n], std::abs(got[n] - want[n]) - ea);
     }
-    density_error = std::max(density_error, std::abs(body.strain_energy_density[i] -
-                                                     (r.w1 / 2 + r.w2 / 3 + r.w3 / 4)));
+    density_error =
+        std::max(density_error,
+                 std::abs(body.strain_energy_density[i] - (r.w1 / 2 + r.w2 / 3 + r.w3 / 4)) - ea);
   }
   INFO("max force " << scale << ", max force error " << force_error);
   CHECK(force_error <= 1e-12 * scale);
@@ -107,8 +122,7 @@ void check_against_reference(Body& body) {
 
 }  // namespace
 
-TEST_CASE("symmetric unordered summation equals the ordered reference sums",
-          "[internal_force]") {
+TEST_CASE("symmetric unordered summation equals the ordered reference sums", "[internal_force]") {
   std::mt19937 rng(7);
   for (const Scene& scene : comparison_scenes()) {
     for (const bool with_failures : {false, true}) {
@@ -122,17 +136,17 @@ TEST_CASE("symmetric unordered summation equals the ordered reference sums",
         REQUIRE(failed > 0);
       }
       INFO(scene.label << (with_failures ? ", with failed bonds" : ", all bonds intact"));
-      check_against_reference(body);
+      check_against_reference(body, scene.lattice);
     }
   }
 }
 
-TEST_CASE("the reference kernel sees a sign error in the three-neighbour force",
+TEST_CASE("the ordered reference three-neighbour force does not vanish (the sign trap)",
           "[internal_force]") {
   // Guards the reference itself: summing the six orders of a triple with one sign (the
   // published Julia mistake) gives zero b3, which the reference must not reproduce.
-  ckpd::BodyDefinition d =
-      lattice_block(3, 4, 4, 4, kDx, 2.015, {0, 0, constants_for(3, 0.1, PlaneMode::none, 2.015).c3});
+  ckpd::BodyDefinition d = lattice_block(3, 4, 4, 4, kDx, 2.015,
+                                         {0, 0, constants_for(3, 0.1, PlaneMode::none, 2.015).c3});
   Body body = ckpd::make_body(d);
   std::mt19937 rng(3);
   perturb(body, 0.02 * kDx, rng);
@@ -272,10 +286,11 @@ TEST_CASE("rigid translation and rigid rotation produce no force", "[internal_fo
     // Move the body away from the origin so rotations also move it a lot.
     for (Vec3& p : d.reference_position) p += Vec3(0.0123, -0.0071, c.axis.z() == 1 ? 0 : 0.0049);
     const Body body = ckpd::make_body(d);
-    // A strain of 1e-6 gives this force; rigid motion must give a million times less.
+    // A strain of 1e-6 gives this force; rigid motion must give 1e5 times less (the force of a
+    // strain of 1e-11, a few hundred roundings of the displacements used here).
     const double scale = strain_force_scale(body, 1e-6);
     REQUIRE(scale > 0);
-    const double tolerance = 1e-6 * scale;
+    const double tolerance = 1e-5 * scale;
     // Translation is exact in any size; combined with rotation it is kept to a few body sizes
     // so that the absolute displacements keep their precision.
     const Vec3 far = c.axis.z() == 1 ? Vec3(0.37, -1.21, 0) : Vec3(0.37, -1.21, 2.5);
@@ -287,8 +302,8 @@ TEST_CASE("rigid translation and rigid rotation produce no force", "[internal_fo
       check_rigid_motion_is_force_free(body, R, Vec3::Zero(), tolerance);
       check_rigid_motion_is_force_free(body, R, near, tolerance);
     }
-    // The same check fails for a deformation a thousand times smaller: the test can fail.
-    CHECK(strain_force_scale(body, 1e-9) > 100 * tolerance);
+    // The same check fails for a strain of 1e-10: the test can fail.
+    CHECK(strain_force_scale(body, 1e-10) > 5 * tolerance);
   }
 }
 
@@ -304,8 +319,8 @@ TEST_CASE("a zero interaction constant means that family is not built", "[intern
     CHECK(body.total_three_neighbour() == 0);
     for (std::size_t i = 0; i < body.size(); ++i) CHECK(body.dv3[i] == 0);
     // With nu = 0.3 the same block does build them.
-    const Body other =
-        ckpd::make_body(lattice_block(3, 4, 4, 4, kDx, m, constants_for(3, 0.3, PlaneMode::none, m)));
+    const Body other = ckpd::make_body(
+        lattice_block(3, 4, 4, 4, kDx, m, constants_for(3, 0.3, PlaneMode::none, m)));
     CHECK(other.has_triples());
     CHECK(other.total_three_neighbour() > 0);
   }
@@ -323,5 +338,64 @@ TEST_CASE("a zero interaction constant means that family is not built", "[intern
         lattice_block(2, 6, 6, 1, kDx, m, constants_for(2, 0.3, PlaneMode::stress, m)));
     CHECK(other.has_pairs());
     CHECK(other.total_two_neighbour() > 0);
+  }
+}
+
+namespace {
+
+Body few_points(int dimension, std::vector<Vec3> positions, InteractionConstants constants) {
+  ckpd::BodyDefinition d;
+  d.name = "few";
+  d.dimension = dimension;
+  d.reference_position = std::move(positions);
+  d.volume.assign(d.reference_position.size(), 1.0);
+  d.density = 1;
+  d.horizon = 2.5;
+  d.constants = constants;
+  d.full_family_volume = static_cast<double>(d.reference_position.size());
+  return ckpd::make_body(d);
+}
+
+}  // namespace
+
+TEST_CASE("nearly collinear and nearly coplanar sets follow the 1e-10 degeneracy rule",
+          "[internal_force]") {
+  SECTION("2D: a triangle (0,0), (1,0), (2,h) seen from each vertex") {
+    // A / (L^ij L^ik) is h/2 at the outer vertices and h at the middle one.
+    struct Case {
+      double h;
+      std::vector<std::uint32_t> n2;
+    };
+    for (const Case& c : std::vector<Case>{
+             {3e-10, {2, 2, 2}}, {1.5e-10, {0, 2, 0}}, {0.5e-10, {0, 0, 0}}, {0.0, {0, 0, 0}}}) {
+      INFO("h " << c.h);
+      Body body = few_points(2, {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, c.h, 0)}, {1.0, -0.3, 0});
+      CHECK(body.n2 == c.n2);
+      body.displacement = {Vec3(0.01, -0.02, 0), Vec3(-0.01, 0.03, 0), Vec3(0.02, 0.01, 0)};
+      ckpd::FamilyScratch scratch;
+      for (std::size_t i = 0; i < 3; ++i) {
+        const ReferenceResult r = reference_point(body, i);
+        CHECK(r.n2 == body.n2[i]);
+        const Vec3 f = ckpd::evaluate_point(body, i, scratch).force_density;
+        CHECK((f - r.force()).norm() <= 1e-12 * r.force().norm());
+      }
+    }
+  }
+  SECTION("3D: a tetrahedron (0,0,0), (1,0,0), (0,1,0), (1,1,h)") {
+    for (const double h : {1e-6, 1e-12}) {
+      INFO("h " << h);
+      Body body = few_points(3, {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, h)},
+                             {1.0, 0, 0.7});
+      for (std::size_t i = 0; i < 4; ++i) CHECK(body.n3[i] == (h > 1e-9 ? 6u : 0u));
+      body.displacement = {Vec3(0.01, -0.02, 0.03), Vec3(-0.01, 0.03, 0.0), Vec3(0.02, 0.01, -0.01),
+                           Vec3(0.0, 0.02, 0.01)};
+      ckpd::FamilyScratch scratch;
+      for (std::size_t i = 0; i < 4; ++i) {
+        const ReferenceResult r = reference_point(body, i);
+        CHECK(r.n3 == body.n3[i]);
+        const Vec3 f = ckpd::evaluate_point(body, i, scratch).force_density;
+        CHECK((f - r.force()).norm() <= 1e-12 * r.force().norm() + r.force_allowance);
+      }
+    }
   }
 }
