@@ -145,19 +145,26 @@ time: {end: 13.0e-6}
 }
 
 TEST_CASE("total energy of a free elastic body drifts under 1 % over 3000 steps", "[physics]") {
+  // Velocity Verlet conserves a nearby "shadow" energy: the true energy oscillates by about
+  // (omega dt)^2 / 8 of the excited modes but must not drift. Drift is measured between the
+  // means of the first and last 300 steps; the oscillation is bounded separately.
   Scene scene = scene_from_text("energy", kCube);
   excite(scene.bodies[0].body, 1.0, 0.0, 7);
   Simulation sim(scene);
   const double e0 = total_energy(sim);
   REQUIRE(e0 > 0);
-  double worst = 0;
+  double worst = 0, first_mean = 0, last_mean = 0;
   for (int step = 1; step <= 3000; ++step) {
-    const bool check = step % 10 == 0;
-    sim.advance(check);
-    if (check) worst = std::max(worst, std::abs(total_energy(sim) - e0) / e0);
+    sim.advance(true);
+    const double e = total_energy(sim);
+    worst = std::max(worst, std::abs(e - e0) / e0);
+    if (step <= 300) first_mean += e / 300;
+    if (step > 2700) last_mean += e / 300;
   }
-  INFO("worst relative energy error " << worst);
-  CHECK(worst < 0.01);
+  const double drift = std::abs(last_mean - first_mean) / e0;
+  INFO("drift " << drift << ", worst oscillation " << worst);
+  CHECK(drift < 0.01);
+  CHECK(worst < 0.03);
 }
 
 TEST_CASE("a run at the estimated stable step stays bounded", "[physics]") {

@@ -44,6 +44,8 @@ int run(const RunOptions& opt) {
   const auto start = std::chrono::steady_clock::now();
   Scene scene = load_scene(opt.case_file, opt.overrides);
   Simulation sim(scene);
+  const double setup_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!opt.quiet) print_setup(sim, std::cout);
 
   std::string out = opt.out_dir;
@@ -65,6 +67,13 @@ int run(const RunOptions& opt) {
   auto seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
+  auto summary = [&](const std::string& status, const std::string& message) {
+    auto j = make_summary(sim, status, message, seconds());
+    j["setup_seconds"] = setup_seconds;
+    j["seconds_per_step"] = sim.step() > 0 ? (seconds() - setup_seconds) / static_cast<double>(sim.step()) : 0.0;
+    j["threads"] = omp_get_max_threads();
+    return j;
+  };
   try {
     while (sim.step() < total) {
       const bool row = (sim.step() + 1) % interval == 0 || sim.step() + 1 == total;
@@ -80,11 +89,11 @@ int run(const RunOptions& opt) {
     }
   } catch (const InstabilityError& e) {
     history.write_row(sim);
-    write_json(out + "/summary.json", make_summary(sim, "unstable", e.what(), seconds()));
+    write_json(out + "/summary.json", summary("unstable", e.what()));
     std::cerr << "ckpd: " << e.what() << "\nckpd: results up to that step are in " << out << '\n';
     return 3;
   }
-  write_json(out + "/summary.json", make_summary(sim, "completed", "", seconds()));
+  write_json(out + "/summary.json", summary("completed", ""));
   if (!opt.quiet) {
     std::cout << "completed " << sim.step() << " steps in " << seconds() << " s; peak RSS "
               << peak_rss_mb() << " MB; max damage " << sim.max_damage() << "; results in " << out
