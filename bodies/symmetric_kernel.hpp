@@ -29,6 +29,9 @@ struct SymmetricKernelStats {
   std::uint64_t bonds = 0;
   std::uint64_t triangles = 0;
   std::uint64_t tetrahedra = 0;
+  // Of those, the ill-conditioned ones (slivers) evaluated vertex by vertex.
+  std::uint64_t triangles_per_vertex = 0;
+  std::uint64_t tetrahedra_per_vertex = 0;
 };
 
 struct SymmetricKernelThread;  // per-thread scratch, defined in the .cpp

@@ -1,0 +1,211 @@
+// Times the reference internal-force kernel (compute_internal_force: every point walks its own
+// family, so each tetrahedron is evaluated four times) against the once-per-interaction kernel
+// (compute_internal_force_symmetric) on a lattice block (3D by default; --dim 2 for a plane
+// stress square, where the triangles do the work), at 1 and 2 OpenMP threads.
+//
+//   kernel_bench [--dim 3] [--n 24] [--m 3.015] [--nu 0.3] [--reps 7] [--ref-reps 3]
+//                [--threads 1,2] [--energy]
+//
+// Prints the setup, the median (and min/max) milliseconds per evaluation, interactions per
+// second, the speed-up of the fast kernel and its thread scaling, and the largest difference
+// between the two kernels relative to the largest force.
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bodies/body.hpp"
+#include "bodies/internal_force.hpp"
+#include "bodies/material.hpp"
+#include "bodies/symmetric_kernel.hpp"
+
+namespace {
+
+using ckpd::Vec3;
+
+struct Options {
+  int dim = 3;
+  int n = 24;
+  double m = 3.015;
+  double nu = 0.3;
+  int reps = 7;
+  int ref_reps = 3;
+  std::vector<int> threads{1, 2};
+  bool energy = false;
+};
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int a = 1; a < argc; ++a) {
+    const std::string key = argv[a];
+    auto value = [&]() -> std::string {
+      if (a + 1 >= argc) throw std::invalid_argument(key + " needs a value");
+      return argv[++a];
+    };
+    if (key == "--dim") {
+      o.dim = std::stoi(value());
+      if (o.dim != 2 && o.dim != 3) throw std::invalid_argument("--dim is 2 or 3");
+    } else if (key == "--n") {
+      o.n = std::stoi(value());
+    } else if (key == "--m") {
+      o.m = std::stod(value());
+    } else if (key == "--nu") {
+      o.nu = std::stod(value());
+    } else if (key == "--reps") {
+      o.reps = std::stoi(value());
+    } else if (key == "--ref-reps") {
+      o.ref_reps = std::stoi(value());
+    } else if (key == "--threads") {
+      o.threads.clear();
+      std::stringstream list(value());
+      for (std::string item; std::getline(list, item, ',');) o.threads.push_back(std::stoi(item));
+    } else if (key == "--energy") {
+      o.energy = true;
+    } else {
+      throw std::invalid_argument("unknown option " + key);
+    }
+  }
+  return o;
+}
+
+ckpd::Body lattice_body(const Options& o) {
+  const double dx = 1e-3, E = 210e9;
+  ckpd::BodyDefinition d;
+  d.name = "bench block";
+  d.dimension = o.dim;
+  d.density = 7850;
+  d.horizon = o.m * dx;
+  d.constants = ckpd::interaction_constants(
+      o.dim, E, o.nu, o.dim == 3 ? ckpd::PlaneMode::none : ckpd::PlaneMode::stress, d.horizon);
+  d.critical_stretch = 1.0;  // damage bookkeeping on, as in a fracture run; nothing fails
+  const int layers = o.dim == 3 ? o.n : 1;
+  for (int z = 0; z < layers; ++z)
+    for (int y = 0; y < o.n; ++y)
+      for (int x = 0; x < o.n; ++x) d.reference_position.emplace_back(x * dx, y * dx, z * dx);
+  const double cell = o.dim == 3 ? dx * dx * dx : dx * dx;
+  d.volume.assign(d.reference_position.size(), cell);
+  const int h = static_cast<int>(std::ceil(o.m)), hz = o.dim == 3 ? h : 0;
+  int offsets = 0;
+  for (int z = -hz; z <= hz; ++z)
+    for (int y = -h; y <= h; ++y)
+      for (int x = -h; x <= h; ++x)
+        if ((x || y || z) && std::sqrt(double(x * x + y * y + z * z)) <= o.m * (1 + 1e-12))
+          ++offsets;
+  d.full_family_volume = offsets * cell;
+  ckpd::Body body = ckpd::make_body(std::move(d));
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-1e-6, 1e-6);  // about 0.1% strain
+  for (Vec3& x : body.displacement) x = Vec3(u(rng), u(rng), o.dim == 3 ? u(rng) : 0.0);
+  return body;
+}
+
+struct Timing {
+  double median = 0, min = 0, max = 0;
+};
+
+template <class Fn>
+Timing time_runs(int reps, Fn&& fn) {
+  fn();  // warm-up: first-touch of the scratch and the caches
+  std::vector<double> ms;
+  for (int r = 0; r < reps; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    fn();
+    const auto t1 = std::chrono::steady_clock::now();
+    ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+  }
+  std::sort(ms.begin(), ms.end());
+  const std::size_t k = ms.size();
+  return {k % 2 ? ms[k / 2] : 0.5 * (ms[k / 2 - 1] + ms[k / 2]), ms.front(), ms.back()};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  try {
+    o = parse(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "kernel_bench: %s\n", e.what());
+    return 2;
+  }
+  ckpd::Body body = lattice_body(o);
+  ckpd::SymmetricKernelWorkspace workspace;
+  const ckpd::SymmetricKernelStats stats =
+      ckpd::compute_internal_force_symmetric(body, o.energy, workspace);
+  // The work that matters: three-neighbour sets in 3D, two-neighbour sets in 2D. The reference
+  // evaluates each unordered set once per centre (N/6 resp. N/2 terms), the fast kernel each
+  // tetrahedron (triangle) once: N/24 (N/6) when no set is degenerate from some vertices only.
+  const bool three = o.dim == 3;
+  const double ordered =
+      static_cast<double>(three ? body.total_three_neighbour() : body.total_two_neighbour());
+  const double sets = static_cast<double>(three ? stats.tetrahedra : stats.triangles);
+  const char* set_name = three ? "tetrahedra" : "triangles";
+  std::printf("%s lattice block %d^%d, m = %.3f, E = 210 GPa, nu = %.2f%s (C2 = %g, C3 = %g)%s\n",
+              three ? "3D" : "2D", o.n, o.dim, o.m, o.nu, three ? "" : " plane stress",
+              body.constants.c2, body.constants.c3, o.energy ? ", with energy" : "");
+  std::printf("points %zu, bonds %zu (unordered), N2 total %llu, N3 total %llu (ordered)\n",
+              body.size(), body.bond_count(),
+              static_cast<unsigned long long>(body.total_two_neighbour()),
+              static_cast<unsigned long long>(body.total_three_neighbour()));
+  std::printf(
+      "per step: reference evaluates %.0f unordered %s terms (N%d/%d), the fast kernel %.0f %s "
+      "(N%d/%d = %.0f; %llu of them vertex by vertex)\n",
+      ordered / (three ? 6 : 2), three ? "three-neighbour" : "two-neighbour", three ? 3 : 2,
+      three ? 6 : 2, sets, set_name, three ? 3 : 2, three ? 24 : 6, ordered / (three ? 24 : 6),
+      static_cast<unsigned long long>(three ? stats.tetrahedra_per_vertex
+                                            : stats.triangles_per_vertex));
+  std::printf("OpenMP max threads %d; reps %d (fast), %d (reference), medians\n\n",
+              omp_get_max_threads(), o.reps, o.ref_reps);
+
+  std::vector<double> ref_ms, fast_ms;
+  double worst = -1;  // < 0: no comparison made
+  for (const int threads : o.threads) {
+    omp_set_num_threads(threads);
+    std::printf("threads %d\n", threads);
+    // --ref-reps 0 skips the reference and the comparison (fast-kernel profiling).
+    std::vector<Vec3> reference;
+    if (o.ref_reps > 0) {
+      const Timing ref =
+          time_runs(o.ref_reps, [&] { ckpd::compute_internal_force(body, o.energy); });
+      reference = body.force_density;
+      ref_ms.push_back(ref.median);
+      std::printf(
+          "  reference  %9.1f ms/step (min %.1f, max %.1f)  %.3g ordered N%d "
+          "interactions/s\n",
+          ref.median, ref.min, ref.max, ordered / (ref.median * 1e-3), three ? 3 : 2);
+    }
+    const Timing fast = time_runs(
+        o.reps, [&] { ckpd::compute_internal_force_symmetric(body, o.energy, workspace); });
+    fast_ms.push_back(fast.median);
+    std::printf(
+        "  fast       %9.1f ms/step (min %.1f, max %.1f)  %.3g ordered N%d "
+        "interactions/s equivalent, %.3g %s/s\n",
+        fast.median, fast.min, fast.max, ordered / (fast.median * 1e-3), three ? 3 : 2,
+        sets / (fast.median * 1e-3), set_name);
+    if (!reference.empty()) {
+      std::printf("  speed-up   %9.2fx\n", ref_ms.back() / fast.median);
+      double scale = 0, diff = 0;
+      for (std::size_t i = 0; i < body.size(); ++i) {
+        scale = std::max(scale, reference[i].norm());
+        diff = std::max(diff, (body.force_density[i] - reference[i]).norm());
+      }
+      worst = std::max(worst, diff / scale);
+    }
+  }
+  if (o.threads.size() > 1) {
+    std::printf("\nthread scaling %d -> %d threads: fast %.2fx", o.threads.front(),
+                o.threads.back(), fast_ms.front() / fast_ms.back());
+    if (!ref_ms.empty()) std::printf(", reference %.2fx", ref_ms.front() / ref_ms.back());
+    std::printf("\n");
+  }
+  if (worst >= 0) std::printf("largest |fast - reference| / max |reference force|: %.2e\n", worst);
+  return 0;
+}

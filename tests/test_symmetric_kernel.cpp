@@ -1,0 +1,322 @@
+// The once-per-interaction kernel (bodies/symmetric_kernel.hpp) against the reference kernel
+// compute_internal_force: forces and energies to 1e-12 of their largest value, on perturbed
+// lattice blocks and jittered clouds with randomly failed bonds, in 2D (C2 < 0 and C2 > 0) and
+// 3D (C3 > 0 and C3 < 0), with one and two OpenMP threads; per-vertex degeneracy decisions
+// (counts equal body.n2 / body.n3, hand-made sets that are degenerate from some vertices only);
+// determinism for a fixed thread count.
+#include <omp.h>
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "bodies/body.hpp"
+#include "bodies/internal_force.hpp"
+#include "bodies/material.hpp"
+#include "bodies/symmetric_kernel.hpp"
+
+namespace {
+
+using ckpd::Body;
+using ckpd::BodyDefinition;
+using ckpd::InteractionConstants;
+using ckpd::PlaneMode;
+using ckpd::Vec3;
+
+constexpr double kDx = 1e-3;
+constexpr double kM = 3.015;
+constexpr double kE = 210e9;
+
+// Restores the OpenMP thread count when a test ends, whatever it set.
+class ThreadCountGuard {
+ public:
+  ThreadCountGuard() : saved_(omp_get_max_threads()) {}
+  ~ThreadCountGuard() { omp_set_num_threads(saved_); }
+
+ private:
+  int saved_;
+};
+
+// nx x ny x nz lattice (nz = 1 in 2D), away from the origin so that offsets carry rounding,
+// optionally jittered by up to +-jitter dx per in-plane component.
+BodyDefinition block(int dimension, int nx, int ny, int nz, InteractionConstants constants,
+                     double jitter, std::mt19937& rng, double m = kM) {
+  BodyDefinition d;
+  d.name = "block";
+  d.dimension = dimension;
+  d.density = 7850;
+  d.horizon = m * kDx;
+  d.constants = constants;
+  d.critical_stretch = 1.0;  // finite: damage on (failed bonds count), but nothing fails here
+  std::uniform_real_distribution<double> u(-jitter * kDx, jitter * kDx);
+  const Vec3 origin(0.37, -0.21, dimension == 3 ? 0.113 : 0.0);
+  for (int z = 0; z < (dimension == 3 ? nz : 1); ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        Vec3 p = origin + kDx * Vec3(x, y, z);
+        if (jitter > 0)
+          for (int c = 0; c < dimension; ++c) p[c] += u(rng);
+        d.reference_position.push_back(p);
+      }
+  const double cell = dimension == 3 ? kDx * kDx * kDx : kDx * kDx;
+  d.volume.assign(d.reference_position.size(), cell);
+  // The largest family volume that occurs, so that beta <= 1 everywhere.
+  const ckpd::BondFamily family = ckpd::build_bond_family(d.reference_position, d.horizon);
+  std::size_t largest = 0;
+  for (std::size_t i = 0; i < family.points(); ++i)
+    largest = std::max(largest, family.family_size(i));
+  d.full_family_volume = static_cast<double>(largest) * cell;
+  return d;
+}
+
+// Random displacements of up to +-amplitude dx per component (in-plane in 2D).
+void perturb(Body& body, double amplitude, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-amplitude * kDx, amplitude * kDx);
+  for (Vec3& d : body.displacement) {
+    d = Vec3(u(rng), u(rng), body.dimension == 3 ? u(rng) : 0.0);
+  }
+}
+
+// Fails each bond with probability `fraction`, both stored directions together.
+void fail_bonds(Body& body, double fraction, std::mt19937& rng) {
+  std::bernoulli_distribution fail(fraction);
+  const auto& f = body.family;
+  for (std::size_t i = 0; i < body.size(); ++i) {
+    for (std::size_t k = f.offset[i]; k < f.offset[i + 1]; ++k) {
+      const std::uint32_t j = f.neighbour[k];
+      if (j < i || !fail(rng)) continue;
+      body.bond_intact[k] = 0;
+      const auto row_begin = f.neighbour.begin() + static_cast<std::ptrdiff_t>(f.offset[j]);
+      const auto row_end = f.neighbour.begin() + static_cast<std::ptrdiff_t>(f.offset[j + 1]);
+      const auto back = std::lower_bound(row_begin, row_end, static_cast<std::uint32_t>(i));
+      REQUIRE((back != row_end && *back == i));
+      body.bond_intact[static_cast<std::size_t>(back - f.neighbour.begin())] = 0;
+    }
+  }
+}
+
+double max_norm(const std::vector<Vec3>& v) {
+  double m = 0;
+  for (const Vec3& x : v) m = std::max(m, x.norm());
+  return m;
+}
+
+double max_abs(const std::vector<double>& v) {
+  double m = 0;
+  for (double x : v) m = std::max(m, std::abs(x));
+  return m;
+}
+
+struct Difference {
+  double force = 0, energy = 0;  // max difference over the largest reference value
+};
+
+// The reference once, then the fast kernel with each thread count; relative differences.
+std::vector<Difference> compare_kernels(Body& body, const std::vector<int>& thread_counts) {
+  ckpd::compute_internal_force(body, true);
+  const std::vector<Vec3> force = body.force_density;
+  const std::vector<double> energy = body.strain_energy_density;
+  const double fscale = max_norm(force), escale = max_abs(energy);
+  REQUIRE(fscale > 0);
+  REQUIRE(escale > 0);
+  std::vector<Difference> result;
+  for (const int threads : thread_counts) {
+    for (auto& f : body.force_density) f = Vec3::Constant(1e300);  // must be overwritten
+    for (auto& e : body.strain_energy_density) e = 1e300;
+    omp_set_num_threads(threads);
+    ckpd::compute_internal_force_symmetric(body, true);
+    Difference d;
+    for (std::size_t i = 0; i < body.size(); ++i) {
+      d.force = std::max(d.force, (body.force_density[i] - force[i]).norm());
+      d.energy = std::max(d.energy, std::abs(body.strain_energy_density[i] - energy[i]));
+    }
+    d.force /= fscale;
+    d.energy /= escale;
+    result.push_back(d);
+  }
+  return result;
+}
+
+Difference compare_kernels(Body& body, int threads) {
+  return compare_kernels(body, std::vector<int>{threads})[0];
+}
+
+struct Scene {
+  std::string label;
+  int dimension;
+  double nu;
+  double jitter;
+  int nx, ny, nz;
+  bool triangles_in_3d = false;  // C2 != 0 in 3D: not a physical setting, but allowed
+  double m = kM;                 // horizon / spacing
+};
+
+InteractionConstants constants_for(const Scene& s) {
+  if (s.triangles_in_3d) {
+    InteractionConstants c = ckpd::interaction_constants(3, kE, s.nu, PlaneMode::none, s.m * kDx);
+    c.c2 = c.c3 * std::pow(s.m * kDx, 3);  // comparable in size to the tetrahedron terms
+    return c;
+  }
+  return ckpd::interaction_constants(
+      s.dimension, kE, s.nu, s.dimension == 2 ? PlaneMode::stress : PlaneMode::none, s.m * kDx);
+}
+
+}  // namespace
+
+TEST_CASE("symmetric kernel equals the reference kernel on perturbed, damaged bodies",
+          "[symmetric_kernel]") {
+  ThreadCountGuard guard;
+  const std::vector<Scene> scenes = {
+      {"2D lattice, plane stress nu=0.2 (C2<0)", 2, 0.2, 0.0, 17, 15, 1},
+      {"2D lattice, plane stress nu=0.4 (C2>0)", 2, 0.4, 0.0, 17, 15, 1},
+      {"2D jittered cloud, nu=0.4", 2, 0.4, 0.3, 17, 15, 1},
+      {"2D jittered cloud, nu=0.2", 2, 0.2, 0.3, 17, 15, 1},
+      {"3D lattice, nu=0.3 (C3>0)", 3, 0.3, 0.0, 7, 7, 6},
+      {"3D lattice, nu=0.1 (C3<0)", 3, 0.1, 0.0, 7, 6, 6},
+      {"3D jittered cloud, nu=0.3", 3, 0.3, 0.25, 7, 6, 6},
+      {"3D jittered cloud, nu=0.1", 3, 0.1, 0.25, 6, 6, 6},
+      {"3D jittered cloud, triangles and tetrahedra", 3, 0.3, 0.1, 6, 6, 5, true},
+      // Upper families of more than 64 points: adjacency rows of two and more words.
+      {"2D jittered cloud, m=9.3", 2, 0.4, 0.2, 21, 20, 1, false, 9.3},
+      {"3D jittered cloud, m=3.7", 3, 0.3, 0.2, 7, 6, 6, false, 3.7},
+  };
+  for (const Scene& s : scenes) {
+    for (const double failed : {0.0, 0.2}) {
+      std::mt19937 rng(12345);
+      Body body = ckpd::make_body(
+          block(s.dimension, s.nx, s.ny, s.nz, constants_for(s), s.jitter, rng, s.m));
+      perturb(body, 0.05, rng);
+      fail_bonds(body, failed, rng);
+      const std::vector<int> thread_counts{1, 2};
+      const std::vector<Difference> diffs = compare_kernels(body, thread_counts);
+      for (std::size_t t = 0; t < diffs.size(); ++t) {
+        INFO(s.label << ", failed fraction " << failed << ", " << thread_counts[t]
+                     << " thread(s): force " << diffs[t].force << ", energy " << diffs[t].energy);
+        CHECK(diffs[t].force <= 1e-12);
+        CHECK(diffs[t].energy <= 1e-12);
+      }
+    }
+  }
+}
+
+TEST_CASE("symmetric kernel with damage off ignores nothing and needs no flags",
+          "[symmetric_kernel]") {
+  ThreadCountGuard guard;
+  std::mt19937 rng(7);
+  Scene s{"3D lattice", 3, 0.3, 0.0, 6, 6, 6};
+  BodyDefinition def = block(3, s.nx, s.ny, s.nz, constants_for(s), 0.0, rng);
+  def.critical_stretch = std::numeric_limits<double>::infinity();
+  Body body = ckpd::make_body(def);
+  REQUIRE_FALSE(body.damage_enabled);
+  perturb(body, 0.05, rng);
+  const Difference d = compare_kernels(body, 2);
+  CHECK(d.force <= 1e-12);
+  CHECK(d.energy <= 1e-12);
+}
+
+TEST_CASE("symmetric kernel counts agree with the body's N2 and N3", "[symmetric_kernel]") {
+  std::mt19937 rng(99);
+  for (const Scene& s :
+       {Scene{"2D jittered", 2, 0.4, 0.3, 15, 14, 1}, Scene{"3D lattice", 3, 0.3, 0.0, 6, 6, 6},
+        Scene{"3D jittered", 3, 0.3, 0.25, 6, 6, 6},
+        Scene{"3D both", 3, 0.3, 0.1, 6, 6, 5, true}}) {
+    const Body body =
+        ckpd::make_body(block(s.dimension, s.nx, s.ny, s.nz, constants_for(s), s.jitter, rng));
+    std::vector<std::uint32_t> n2, n3;
+    ckpd::count_interactions_symmetric(body, n2, n3);
+    INFO(s.label);
+    CHECK(n2 == body.n2);
+    CHECK(n3 == body.n3);
+  }
+}
+
+TEST_CASE("symmetric kernel evaluates each tetrahedron once", "[symmetric_kernel]") {
+  // On an undamaged lattice every tetrahedron is non-degenerate from all four vertices or from
+  // none, so the ordered three-neighbour count is 24 per tetrahedron evaluated.
+  std::mt19937 rng(3);
+  Scene s{"3D lattice", 3, 0.3, 0.0, 6, 6, 6};
+  Body body = ckpd::make_body(block(3, s.nx, s.ny, s.nz, constants_for(s), 0.0, rng));
+  perturb(body, 0.05, rng);
+  ckpd::SymmetricKernelWorkspace workspace;
+  const ckpd::SymmetricKernelStats stats =
+      ckpd::compute_internal_force_symmetric(body, false, workspace);
+  CHECK(stats.tetrahedra * 24 == body.total_three_neighbour());
+  CHECK(stats.bonds == body.bond_count());
+  CHECK(stats.triangles == 0);
+}
+
+TEST_CASE("symmetric kernel is deterministic for a fixed thread count", "[symmetric_kernel]") {
+  ThreadCountGuard guard;
+  std::mt19937 rng(5);
+  Scene s{"3D jittered", 3, 0.1, 0.25, 6, 6, 5};
+  Body body = ckpd::make_body(block(3, s.nx, s.ny, s.nz, constants_for(s), s.jitter, rng));
+  perturb(body, 0.05, rng);
+  fail_bonds(body, 0.1, rng);
+  omp_set_num_threads(2);
+  ckpd::compute_internal_force_symmetric(body, true);
+  const std::vector<Vec3> force = body.force_density;
+  const std::vector<double> energy = body.strain_energy_density;
+  for (int repeat = 0; repeat < 3; ++repeat) {
+    ckpd::compute_internal_force_symmetric(body, true);
+    CHECK(body.force_density == force);
+    CHECK(body.strain_energy_density == energy);
+  }
+}
+
+TEST_CASE("symmetric kernel decides degeneracy per vertex, like the reference",
+          "[symmetric_kernel]") {
+  ThreadCountGuard guard;
+  std::mt19937 rng(11);
+  SECTION("a thin triangle: non-degenerate from its middle vertex only") {
+    // A = h; thresholds 1e-10 * (product of the vertex's two edges): 2e-10 at the ends
+    // (edges 1 and 2), 1e-10 at the middle (edges 1 and 1).
+    const double h = 1.5e-10;
+    BodyDefinition d;
+    d.name = "thin triangle";
+    d.dimension = 2;
+    d.density = 1;
+    d.horizon = 2.5;
+    d.constants = {1.0, 1.0, 0.0};
+    d.critical_stretch = 10;
+    d.reference_position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, h, 0)};
+    d.volume.assign(3, 1.0);
+    d.full_family_volume = 2;
+    Body body = ckpd::make_body(d);
+    CHECK(body.n2 == std::vector<std::uint32_t>{0, 2, 0});
+    std::vector<std::uint32_t> n2, n3;
+    ckpd::count_interactions_symmetric(body, n2, n3);
+    CHECK(n2 == body.n2);
+    for (Vec3& u : body.displacement) u = Vec3(1e-3 * (rng() % 7), 1e-3 * (rng() % 5), 0);
+    const Difference diff = compare_kernels(body, 1);
+    CHECK(diff.force <= 1e-12);
+    CHECK(diff.energy <= 1e-12);
+  }
+  SECTION("a flat tetrahedron: non-degenerate from its first vertex only") {
+    // |V| = h; thresholds 1e-10 * (product of the vertex's three edges): 2.83e-10 at (0,0,0),
+    // 3.16e-10 at (1,0,0) and (0,1,0), 1.41e-9 at (2,2,h).
+    const double h = 3e-10;
+    BodyDefinition d;
+    d.name = "flat tetrahedron";
+    d.dimension = 3;
+    d.density = 1;
+    d.horizon = 3;
+    d.constants = {1.0, 0.0, 1.0};
+    d.critical_stretch = 10;
+    d.reference_position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(2, 2, h)};
+    d.volume.assign(4, 1.0);
+    d.full_family_volume = 3;
+    Body body = ckpd::make_body(d);
+    CHECK(body.n3 == std::vector<std::uint32_t>{6, 0, 0, 0});
+    std::vector<std::uint32_t> n2, n3;
+    ckpd::count_interactions_symmetric(body, n2, n3);
+    CHECK(n3 == body.n3);
+    for (Vec3& u : body.displacement)
+      u = Vec3(1e-3 * (rng() % 7), 1e-3 * (rng() % 5), 1e-3 * (rng() % 3));
+    const Difference diff = compare_kernels(body, 1);
+    CHECK(diff.force <= 1e-12);
+    CHECK(diff.energy <= 1e-12);
+  }
+}
