@@ -625,9 +625,11 @@ SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_ener
   double min_length2 = std::numeric_limits<double>::infinity();
   int team = 1;
   // Static schedule: which thread handles which point is a function of the thread count only,
-  // so each thread's partial sums, and their sum in thread order, are reproducible. Chunks are
-  // small so that the cheap points (few upper neighbours: the high-index surface) are spread.
-  constexpr int kChunk = 16;
+  // so each thread's partial sums, and their sum in thread order, are reproducible. Chunks of 64
+  // interleave the threads finely enough to spread the cheap points (few upper neighbours: the
+  // high-index surface); measured on a 20^3 block with 2 threads: chunks of 16 scaled 1.85x,
+  // 64 to 256 1.95x (consecutive points write to overlapping neighbours: better locality).
+  constexpr int kChunk = 64;
 #pragma omp parallel
   {
     const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
