@@ -1,0 +1,250 @@
+#include "contact/contact_manager.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <tuple>
+
+namespace ckpd {
+
+struct ContactManager::Pair {
+  std::uint32_t body[2] = {0, 0};  // equal for self-contact
+  PairLaw law;
+  bool self = false;
+  std::vector<std::uint32_t> members[2];  // points that can touch the other side (self: [0] only)
+  PointGrid grid[2];
+};
+
+struct ContactManager::Target {
+  std::uint32_t body = 0, point = 0;
+  std::uint32_t ref_begin = 0, ref_end = 0;  // into target_refs_
+};
+
+namespace {
+
+Box3 bounding_box(const Body& body) {
+  Box3 box{Vec3::Constant(std::numeric_limits<double>::infinity()),
+           Vec3::Constant(-std::numeric_limits<double>::infinity())};
+  for (std::size_t i = 0; i < body.size(); ++i) {
+    const Vec3 x = body.current_position(i);
+    box.lo = box.lo.cwiseMin(x);
+    box.hi = box.hi.cwiseMax(x);
+  }
+  return box;
+}
+
+Box3 grown(const Box3& box, double by) {
+  return {box.lo - Vec3::Constant(by), box.hi + Vec3::Constant(by)};
+}
+
+bool inside(const Box3& box, const Vec3& x) {
+  return (x.array() >= box.lo.array()).all() && (x.array() <= box.hi.array()).all();
+}
+
+// True when i and j are joined by a bond that has not failed (families are sorted by index).
+bool intact_bond(const Body& body, std::uint32_t i, std::uint32_t j) {
+  const auto begin = body.family.neighbour.begin();
+  const auto first = begin + static_cast<std::ptrdiff_t>(body.family.offset[i]);
+  const auto last = begin + static_cast<std::ptrdiff_t>(body.family.offset[i + 1]);
+  const auto it = std::lower_bound(first, last, j);
+  return it != last && *it == j && body.bond_intact[static_cast<std::size_t>(it - begin)];
+}
+
+}  // namespace
+
+ContactManager::ContactManager(std::vector<ContactBody> bodies, ContactSettings settings)
+    : bodies_(std::move(bodies)), settings_(std::move(settings)) {
+  const std::size_t n = bodies_.size();
+  margin_.assign(n, 0);
+  drift_limit_.assign(n, 0);
+  std::vector<double> widest_radius(n, 0);
+  std::vector<std::uint8_t> member(n, 0);
+  for (std::size_t a = 0; a < n; ++a) {
+    if (const auto self = settings_.law(bodies_, a, a)) {
+      Pair p;
+      p.body[0] = p.body[1] = static_cast<std::uint32_t>(a);
+      p.law = *self;
+      p.self = true;
+      p.members[0].resize(bodies_[a].body->size());
+      for (std::size_t i = 0; i < p.members[0].size(); ++i)
+        p.members[0][i] = static_cast<std::uint32_t>(i);
+      self_pairs_.push_back(std::move(p));
+    }
+    for (std::size_t b = a + 1; b < n; ++b) {
+      const auto law = settings_.law(bodies_, a, b);
+      if (!law) continue;
+      member[a] = member[b] = 1;
+      for (std::size_t c : {a, b}) {
+        margin_[c] = std::max(margin_[c], 0.5 * (law->radius + law->skin));
+        widest_radius[c] = std::max(widest_radius[c], law->radius);
+      }
+    }
+  }
+  // A pair's boxes were apart by more than margin_a + margin_b >= l_c + drift_a + drift_b at the
+  // build, so no two of their points come within l_c while each moves less than its drift limit.
+  for (std::size_t b = 0; b < n; ++b) {
+    drift_limit_[b] = margin_[b] - 0.5 * widest_radius[b];
+    if (member[b]) members_.push_back(b);
+  }
+  built_displacement_.resize(n);
+  if (members_.size() >= 2) broad_ = std::make_unique<BroadPhase>(members_);
+}
+
+ContactManager::~ContactManager() = default;
+
+bool ContactManager::drifted_beyond_skin() const {
+  bool drifted = false;
+#pragma omp parallel for schedule(dynamic) reduction(|| : drifted)
+  for (std::size_t m = 0; m < members_.size(); ++m) {
+    const std::size_t b = members_[m];
+    const Body& body = *bodies_[b].body;
+    const std::vector<Vec3>& built = built_displacement_[b];
+    const double limit2 = drift_limit_[b] * drift_limit_[b];
+    for (std::size_t i = 0; i < body.size(); ++i)
+      if ((body.displacement[i] - built[i]).squaredNorm() > limit2) {
+        drifted = true;
+        break;
+      }
+  }
+  return drifted;
+}
+
+void ContactManager::rebuild() {
+  std::vector<Box3> tight(bodies_.size()), inflated(bodies_.size());
+#pragma omp parallel for schedule(dynamic)
+  for (std::size_t m = 0; m < members_.size(); ++m) {
+    const std::size_t b = members_[m];
+    tight[b] = bounding_box(*bodies_[b].body);
+    inflated[b] = grown(tight[b], margin_[b]);
+    built_displacement_[b] = bodies_[b].body->displacement;
+  }
+  pairs_.clear();
+  for (const auto& [a, b] : broad_->overlapping_pairs(inflated)) {
+    const auto law = settings_.law(bodies_, a, b);
+    if (!law) continue;
+    Pair p;
+    p.body[0] = a;
+    p.body[1] = b;
+    p.law = *law;
+    pairs_.push_back(std::move(p));
+  }
+#pragma omp parallel for schedule(dynamic)
+  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    Pair& p = pairs_[k];
+    const double reach = p.law.radius + drift_limit_[p.body[0]] + drift_limit_[p.body[1]];
+    for (int s = 0; s < 2; ++s) {
+      const Body& body = *bodies_[p.body[s]].body;
+      const Box3 zone = grown(tight[p.body[1 - s]], reach);
+      for (std::size_t i = 0; i < body.size(); ++i)
+        if (inside(zone, body.current_position(i)))
+          p.members[s].push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  // Overlapping boxes whose points are nowhere near each other cost nothing further.
+  std::erase_if(pairs_, [](const Pair& p) { return p.members[0].empty() || p.members[1].empty(); });
+  ++stats_.rebuilds;
+  index_targets();
+}
+
+void ContactManager::index_targets() {
+  all_pairs_.clear();
+  for (Pair& p : self_pairs_) all_pairs_.push_back(&p);
+  for (Pair& p : pairs_) all_pairs_.push_back(&p);
+  // (body, point, ref) for every point on every side of every pair, grouped by point.
+  std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>> entries;
+  for (std::size_t k = 0; k < all_pairs_.size(); ++k) {
+    const Pair& p = *all_pairs_[k];
+    for (int s = 0; s < (p.self ? 1 : 2); ++s)
+      for (std::uint32_t i : p.members[s])
+        entries.emplace_back(p.body[s], i, static_cast<std::uint32_t>(2 * k + s));
+  }
+  std::sort(entries.begin(), entries.end());
+  targets_.clear();
+  target_refs_.clear();
+  for (std::size_t e = 0; e < entries.size(); ++e) {
+    const auto [body, point, ref] = entries[e];
+    if (targets_.empty() || targets_.back().body != body || targets_.back().point != point) {
+      const auto at = static_cast<std::uint32_t>(target_refs_.size());
+      targets_.push_back({body, point, at, at});
+    }
+    target_refs_.push_back(ref);
+    ++targets_.back().ref_end;
+  }
+  target_energy_.assign(targets_.size(), 0);
+  target_contacts_.assign(targets_.size(), 0);
+  target_tests_.assign(targets_.size(), 0);
+  built_ = true;
+}
+
+void ContactManager::add_forces() {
+  const auto start = std::chrono::steady_clock::now();
+  if (!built_ || (broad_ && drifted_beyond_skin())) {
+    if (broad_)
+      rebuild();
+    else
+      index_targets();
+  }
+  // Bin both sides of every pair (one side for self-contact) at the current positions.
+  const std::size_t sides = 2 * all_pairs_.size();
+#pragma omp parallel for schedule(dynamic)
+  for (std::size_t t = 0; t < sides; ++t) {
+    Pair& p = *all_pairs_[t / 2];
+    const int s = static_cast<int>(t % 2);
+    if (p.self && s == 1) continue;
+    p.grid[s].build(*bodies_[p.body[s]].body, p.members[s], p.law.radius);
+  }
+  for (const Pair* p : all_pairs_)
+    stats_.points_binned += p->members[0].size() + (p->self ? 0 : p->members[1].size());
+
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::size_t t = 0; t < targets_.size(); ++t) {
+    const Target& target = targets_[t];
+    Body& body = *bodies_[target.body].body;
+    const std::uint32_t i = target.point;
+    const Vec3 xi = body.current_position(i);
+    const double vi = body.volume[i];
+    Vec3 force = Vec3::Zero();
+    double energy = 0;
+    std::uint32_t contacts = 0, tests = 0;
+    for (std::uint32_t r = target.ref_begin; r < target.ref_end; ++r) {
+      const Pair& p = *all_pairs_[target_refs_[r] / 2];
+      const int side = static_cast<int>(target_refs_[r] % 2);
+      const PointGrid& partners = p.grid[p.self ? 0 : 1 - side];
+      const double lc = p.law.radius, c = p.law.coefficient[side];
+      // Each point pair is met from both ends; each end books half its energy.
+      const double quarter_mean = 0.25 * p.law.mean_coefficient();
+      partners.for_each_near(xi, [&](std::uint32_t j, const Vec3& xj, double vj) {
+        if (p.self && (j == i || intact_bond(body, i, j))) return;
+        ++tests;
+        const Vec3 d = xi - xj;
+        const double r2 = d.squaredNorm();
+        if (r2 >= lc * lc || r2 == 0) return;
+        const double r = std::sqrt(r2), gap = lc - r;
+        const double volumes = vi * vj;
+        force += (c * gap / r * volumes) * d;
+        energy += quarter_mean * volumes * gap * gap;
+        ++contacts;
+      });
+    }
+    body.force_density[i] += force / vi;
+    target_energy_[t] = energy;
+    target_contacts_[t] = contacts;
+    target_tests_[t] = tests;
+  }
+  // Serial sums: the same total on every thread count.
+  energy_ = 0;
+  std::uint64_t contacts = 0;
+  for (std::size_t t = 0; t < targets_.size(); ++t) {
+    energy_ += target_energy_[t];
+    contacts += target_contacts_[t];
+    stats_.point_pair_tests += target_tests_[t];
+  }
+  stats_.points_in_contact = contacts / 2;
+  stats_.points_in_contact_peak = std::max(stats_.points_in_contact_peak, stats_.points_in_contact);
+  stats_.candidate_pairs = all_pairs_.size();
+  stats_.candidate_pairs_peak = std::max(stats_.candidate_pairs_peak, stats_.candidate_pairs);
+  stats_.pairs_checked += all_pairs_.size();
+  stats_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace ckpd

@@ -1,0 +1,84 @@
+#pragma once
+// Contact between any number of bodies (MODEL.md section 5), in two phases.
+//
+// Broad phase: each body's box of current points, inflated by half of (l_c + skin) of its
+// widest contact law, goes into an FCL tree that yields the pairs of overlapping boxes. For each
+// such pair only the points that can come within l_c of the other body before the next rebuild
+// are kept (those inside the other body's box grown by l_c and both bodies' drift allowances).
+// The candidates stay valid while no point has moved more than half its body's skin since the
+// build (as LAMMPS neighbour lists do), so the tree is rebuilt only then.
+//
+// Narrow phase, every step: the kept points of each side are binned in a cell list and every
+// kept point sums the force of the other side's points within l_c. Each point's sum is its own
+// (no two threads write one point) and runs in a fixed order, so the result does not depend on
+// the thread count; the two sides of a point pair compute the same r and the same scalar, so
+// their forces are exactly opposite when the pair uses one coefficient.
+//
+// Self-contact: a body's own points that are not joined by an intact bond repel with the same
+// law (fragments of a broken body must not pass through each other).
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "contact/broad_phase.hpp"
+#include "contact/contact_settings.hpp"
+#include "contact/point_grid.hpp"
+
+namespace ckpd {
+
+struct ContactStatistics {
+  std::uint64_t rebuilds = 0;          // broad-phase builds (the first one included)
+  std::uint64_t pairs_checked = 0;     // body pairs whose narrow phase ran, summed over evaluations
+  std::uint64_t points_binned = 0;     // narrow-phase work: points put into cell lists
+  std::uint64_t point_pair_tests = 0;  // narrow-phase work: point distances evaluated
+  std::size_t candidate_pairs = 0;     // body pairs (self-contact included) now
+  std::size_t candidate_pairs_peak = 0;
+  std::size_t points_in_contact = 0;  // point pairs closer than l_c now
+  std::size_t points_in_contact_peak = 0;
+  double seconds = 0;  // wall time spent in add_forces
+};
+
+class ContactManager {
+ public:
+  // `bodies` must outlive the manager. Throws std::invalid_argument like ContactSettings::law.
+  ContactManager(std::vector<ContactBody> bodies, ContactSettings settings);
+  ~ContactManager();
+
+  // Adds every point's contact force density to its body's force_density (at the current
+  // positions) and sets energy().
+  void add_forces();
+  // Contact energy at the last add_forces: sum over point pairs of c V^i V^j (l_c - r)^2 / 2
+  // (see contact_law.hpp for c when the two sides differ).
+  double energy() const { return energy_; }
+  const ContactStatistics& statistics() const { return stats_; }
+  // Whether any pair of distinct bodies can interact (else no broad phase exists).
+  bool has_broad_phase() const { return broad_ != nullptr; }
+
+ private:
+  struct Pair;
+  struct Target;  // one point that has partners, and which pairs they are in
+  bool drifted_beyond_skin() const;
+  void rebuild();
+  void index_targets();
+
+  std::vector<ContactBody> bodies_;
+  ContactSettings settings_;
+  std::vector<std::size_t> members_;  // bodies in the broad phase
+  std::vector<double> margin_;        // per body: box inflation, half of the widest l_c + skin
+  std::vector<double> drift_limit_;   // per body: how far a point may move between builds
+  std::unique_ptr<BroadPhase> broad_;
+  std::vector<std::vector<Vec3>> built_displacement_;  // per member body, at the last build
+  std::vector<Pair> self_pairs_;
+  std::vector<Pair> pairs_;
+  std::vector<Target> targets_;
+  std::vector<std::uint32_t> target_refs_;  // per target: pair * 2 + side, into all_pairs_
+  std::vector<Pair*> all_pairs_;
+  std::vector<double> target_energy_;
+  std::vector<std::uint32_t> target_contacts_, target_tests_;
+  bool built_ = false;
+  double energy_ = 0;
+  ContactStatistics stats_;
+};
+
+}  // namespace ckpd

@@ -1,0 +1,69 @@
+#include "contact/contact_stiffness.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+
+namespace ckpd {
+
+std::size_t max_lattice_sites_in_ball(double radius, double spacing, int dimension) {
+  const double ratio = radius / spacing;
+  if (ratio > 4) return static_cast<std::size_t>(std::pow(2 * ratio + 1, dimension));
+  constexpr int kSamples = 32;
+  // Every centre in the cell is within this distance of a sample, so the sites within `reach`
+  // of the nearest sample include all sites within `radius` of the centre.
+  const double cover = 0.5 * std::sqrt(static_cast<double>(dimension)) / kSamples;
+  const double reach = (ratio + cover) * (1 + 1e-12);
+  const int range = static_cast<int>(std::ceil(reach)) + 1;
+  const int zs = dimension == 3 ? kSamples : 1;
+  const int zr = dimension == 3 ? range : 0;
+  std::size_t best = 0;
+  for (int a = 0; a < kSamples; ++a)
+    for (int b = 0; b < kSamples; ++b)
+      for (int c = 0; c < zs; ++c) {
+        const double cx = (a + 0.5) / kSamples, cy = (b + 0.5) / kSamples,
+                     cz = dimension == 3 ? (c + 0.5) / kSamples : 0.0;
+        std::size_t count = 0;
+        for (int i = -range; i <= range; ++i)
+          for (int j = -range; j <= range; ++j)
+            for (int k = -zr; k <= zr; ++k) {
+              const double dx = i - cx, dy = j - cy, dz = k - cz;
+              if (dx * dx + dy * dy + dz * dz <= reach * reach) ++count;
+            }
+        best = std::max(best, count);
+      }
+  return best;
+}
+
+std::vector<double> contact_stiffness_bounds(const ContactSettings& settings,
+                                             const std::vector<ContactBody>& bodies) {
+  std::vector<double> k(bodies.size(), 0.0);
+  if (!settings.present) return k;
+  std::vector<double> largest_volume(bodies.size(), 0.0);
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    for (double v : bodies[b].body->volume) largest_volume[b] = std::max(largest_volume[b], v);
+  // Many bodies share a spacing and a radius: count lattice sites once per combination.
+  std::map<std::tuple<double, double, int>, std::size_t> sites;
+  auto sites_in_ball = [&](double radius, double spacing, int dimension) {
+    auto [it, fresh] = sites.try_emplace({radius, spacing, dimension}, 0);
+    if (fresh) it->second = max_lattice_sites_in_ball(radius, spacing, dimension);
+    return static_cast<double>(it->second);
+  };
+  for (std::size_t a = 0; a < bodies.size(); ++a)
+    for (std::size_t b = a; b < bodies.size(); ++b) {
+      const std::optional<PairLaw> law = settings.law(bodies, a, b);
+      if (!law) continue;
+      const int dim = bodies[a].body->dimension;
+      // Point of a feels the partners of b, and the other way round.
+      k[a] = std::max(k[a], 2 * law->coefficient[0] *
+                                sites_in_ball(law->radius, bodies[b].spacing, dim) *
+                                largest_volume[b]);
+      k[b] = std::max(k[b], 2 * law->coefficient[1] *
+                                sites_in_ball(law->radius, bodies[a].spacing, dim) *
+                                largest_volume[a]);
+    }
+  return k;
+}
+
+}  // namespace ckpd
