@@ -1,6 +1,6 @@
 #pragma once
-// What a run needs, assembled from a case file: the bodies with their conditions, the time and
-// output settings.
+// What a run needs, assembled from a case file: the bodies with their conditions, contact, the
+// time and output settings.
 #include <limits>
 #include <memory>
 #include <optional>
@@ -8,7 +8,9 @@
 #include <vector>
 
 #include "bodies/body.hpp"
+#include "contact/contact_settings.hpp"
 #include "src/engine/condition.hpp"
+#include "src/engine/rigid_body.hpp"
 
 namespace ckpd {
 
@@ -16,6 +18,7 @@ struct SceneBody {
   Body body;
   double spacing = 0;  // lattice spacing dx
   std::vector<std::unique_ptr<Condition>> conditions;
+  std::optional<RigidMotion> rigid;  // set: a rigid body (no bonds; body holds its points)
 };
 
 struct TimeSettings {
@@ -33,6 +36,7 @@ struct OutputSettings {
 struct Scene {
   std::string case_file;
   std::vector<SceneBody> bodies;
+  ContactSettings contact;
   TimeSettings time;
   OutputSettings output;
 };

@@ -1,11 +1,14 @@
 #include "src/engine/simulation.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 
 #include "bodies/damage.hpp"
 #include "bodies/internal_force.hpp"
+#include "bodies/symmetric_kernel.hpp"
+#include "src/engine/contact_coupling.hpp"
 
 namespace ckpd {
 
@@ -55,8 +58,12 @@ double half_work_increment(const Body& b, double dt) {
 StepChoice choose_time_step(const Scene& scene) {
   StepChoice c;
   c.estimate = std::numeric_limits<double>::infinity();
-  for (const SceneBody& sb : scene.bodies) {
-    const StableStep s = stable_step(sb.body);
+  // Contact stiffness adds to each point's bond stiffness bound (contact/contact_stiffness.hpp).
+  const std::vector<double> contact_stiffness = contact_stiffness_bounds(scene);
+  for (std::size_t index = 0; index < scene.bodies.size(); ++index) {
+    const SceneBody& sb = scene.bodies[index];
+    if (sb.rigid && sb.rigid->prescribed()) continue;  // its motion does not respond to forces
+    const StableStep s = stable_step_with(sb.body, contact_stiffness[index]);
     if (s.dt < c.estimate) {
       c.estimate = s.dt;
       c.limiting_body = sb.body.name;
@@ -96,6 +103,11 @@ Simulation::Simulation(Scene& scene) : scene_(scene) {
       c->initialise(sb.body);
       max_speed = std::max(max_speed, c->max_speed());
     }
+    if (sb.rigid) {
+      sb.rigid->initialise(sb.body);
+      max_speed = std::max(max_speed, sb.rigid->max_speed(sb.body));
+      continue;  // no lattice waves
+    }
     // omega_max dx bounds the fastest wave a lattice carries.
     const double k = *std::max_element(sb.body.stiffness_bound.begin(), sb.body.stiffness_bound.end());
     max_speed = std::max(max_speed, sb.spacing * std::sqrt(k / sb.body.density));
@@ -103,28 +115,47 @@ Simulation::Simulation(Scene& scene) : scene_(scene) {
   // No material point of a stable run moves at ten times the fastest wave or load speed.
   speed_limit_ = 10 * max_speed;
   for (const SceneBody& sb : scene_.bodies) initially_failed_.push_back(failed_bond_count(sb.body));
+  contact_ = make_contact_manager(scene_);
   evaluate_forces(true);
   const Energies e = energies();
-  initial_total_ = e.kinetic + e.strain;
+  initial_total_ = e.kinetic + e.strain + e.contact;
 }
 
 void Simulation::evaluate_forces(bool with_energy) {
   strain_energy_ = with_energy ? 0.0 : strain_energy_;
+  const auto start = std::chrono::steady_clock::now();
   for (SceneBody& sb : scene_.bodies) {
     Body& b = sb.body;
-    update_bond_failure(b);
     std::fill(b.external_force_density.begin(), b.external_force_density.end(), Vec3::Zero());
     for (const auto& c : sb.conditions) c->add_external_force(b, time_);
-    compute_internal_force(b, with_energy);
+    if (sb.rigid) {
+      b.force_density = b.external_force_density;  // no internal forces
+      continue;
+    }
+    update_bond_failure(b);
+    // Each bond, triangle and tetrahedron once (the per-point kernel in internal_force.hpp is the
+    // reference it is tested against).
+    compute_internal_force_symmetric(b, with_energy);
+    const std::size_t n = b.size();
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) b.force_density[i] += b.external_force_density[i];
+    if (with_energy) strain_energy_ += strain_energy(b);
+  }
+  body_force_seconds_ +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // Contact couples the bodies: it runs once all of them are at the new positions.
+  if (contact_) contact_->add_forces();
+  for (SceneBody& sb : scene_.bodies) {
+    Body& b = sb.body;
+    if (sb.rigid) {
+      sb.rigid->set_accelerations(b, time_);
+      continue;
+    }
     const double inv_rho = 1 / b.density;
     const std::size_t n = b.size();
 #pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
-      b.force_density[i] += b.external_force_density[i];
-      b.acceleration[i] = inv_rho * b.force_density[i];
-    }
+    for (std::size_t i = 0; i < n; ++i) b.acceleration[i] = inv_rho * b.force_density[i];
     apply_prescribed_motion(sb, time_, false, true);
-    if (with_energy) strain_energy_ += strain_energy(b);
   }
 }
 
@@ -133,6 +164,11 @@ void Simulation::advance(bool with_energy) {
   // Kick to t + dt/2, prescribed velocities at the midpoint (exact for a linear ramp), drift.
   for (SceneBody& sb : scene_.bodies) {
     Body& b = sb.body;
+    if (sb.rigid) {
+      sb.rigid->first_half(b, time_, dt);
+      external_work_ += half_work_increment(b, dt);
+      continue;
+    }
     const std::size_t n = b.size();
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i) b.velocity[i] += 0.5 * dt * b.acceleration[i];
@@ -147,6 +183,9 @@ void Simulation::advance(bool with_energy) {
   for (SceneBody& sb : scene_.bodies) {
     Body& b = sb.body;
     external_work_ += half_work_increment(b, dt);
+    // A rigid body's point velocities follow from its own kick; the loop below only checks them.
+    if (sb.rigid) sb.rigid->second_half(b, time_, dt);
+    const bool kick = !sb.rigid;
     const std::size_t n = b.size();
     double worst = 0;
     std::size_t worst_point = 0;
@@ -158,7 +197,7 @@ void Simulation::advance(bool with_energy) {
       bool my_finite = true;
 #pragma omp for schedule(static) nowait
       for (std::size_t i = 0; i < n; ++i) {
-        b.velocity[i] += 0.5 * dt * b.acceleration[i];
+        if (kick) b.velocity[i] += 0.5 * dt * b.acceleration[i];
         const double s2 = b.velocity[i].squaredNorm();
         if (!std::isfinite(s2) || !b.displacement[i].allFinite()) {
           my_finite = false;
@@ -200,7 +239,7 @@ void Simulation::advance(bool with_energy) {
 
 void Simulation::check_energy() const {
   const Energies e = energies();
-  const double now = e.kinetic + e.strain;
+  const double now = e.kinetic + e.strain + e.contact;
   const double supplied = initial_total_ + std::abs(e.external_work);
   if (now > 0 && now > 10 * supplied) {
     // Where: the point with the largest kinetic plus strain energy.
@@ -219,8 +258,9 @@ void Simulation::check_energy() const {
       }
     }
     std::ostringstream msg;
-    msg << "instability at step " << step_ << ", t = " << time_ << " s: kinetic + strain energy "
-        << now << " J is more than ten times the energy put in (" << supplied << " J), most of it at body '"
+    msg << "instability at step " << step_ << ", t = " << time_
+        << " s: kinetic + strain + contact energy " << now
+        << " J is more than ten times the energy put in (" << supplied << " J), most of it at body '"
         << where_body->name << "', point " << where_point << " at reference "
         << format_position(where_body->reference_position[where_point], where_body->dimension)
         << "; dt = " << step_choice_.dt << " s is " << step_choice_.safety
@@ -237,8 +277,9 @@ Energies Simulation::energies() const {
       e.kinetic += 0.5 * b.density * b.volume[i] * b.velocity[i].squaredNorm();
   }
   e.strain = strain_energy_;
+  e.contact = contact_ ? contact_->energy() : 0.0;
   e.external_work = external_work_;
-  e.balance_error = e.kinetic + e.strain - e.external_work - initial_total_;
+  e.balance_error = e.kinetic + e.strain + e.contact - e.external_work - initial_total_;
   return e;
 }
 

@@ -1,9 +1,11 @@
 #pragma once
 // Velocity-Verlet time integration of all bodies (MODEL.md section 6), the stable-step choice,
 // energy bookkeeping and the instability guard.
+#include <memory>
 #include <stdexcept>
 #include <string>
 
+#include "contact/contact_manager.hpp"
 #include "src/engine/scene.hpp"
 
 namespace ckpd {
@@ -32,8 +34,10 @@ StepChoice choose_time_step(const Scene& scene);
 struct Energies {
   double kinetic = 0;
   double strain = 0;
+  double contact = 0;        // contact potential (contact/contact_law.hpp)
   double external_work = 0;  // work done on the bodies by loads and prescribed motion
-  // kinetic + strain - external_work - (its value at t = 0): zero for exact, undamaged dynamics.
+  // kinetic + strain + contact - external_work - (its value at t = 0): zero for exact, undamaged
+  // dynamics.
   double balance_error = 0;
 };
 
@@ -58,6 +62,10 @@ class Simulation {
   double max_damage() const;
   double speed_limit() const { return speed_limit_; }
   const Scene& scene() const { return scene_; }
+  // Null when the scene has no contact work (contact_coupling.hpp).
+  const ContactManager* contact() const { return contact_.get(); }
+  // Wall time spent in the bodies' own forces (internal and external), for the contact benchmark.
+  double body_force_seconds() const { return body_force_seconds_; }
 
  private:
   void evaluate_forces(bool with_energy);
@@ -73,6 +81,8 @@ class Simulation {
   double initial_total_ = 0;
   std::vector<std::size_t> initially_failed_;
   double speed_limit_ = 0;
+  std::unique_ptr<ContactManager> contact_;
+  double body_force_seconds_ = 0;
 };
 
 }  // namespace ckpd

@@ -7,20 +7,21 @@
 
 #include "bodies/damage.hpp"
 #include "bodies/fragments.hpp"
+#include "src/output/contact_summary.hpp"
 #include <stdexcept>
 
 namespace ckpd {
 
 HistoryWriter::HistoryWriter(const std::string& path) : out_(path), path_(path) {
   if (!out_) throw std::runtime_error(path + ": cannot write the history file");
-  out_ << "step,time,kinetic,strain,external_work,balance_error,broken_bonds,max_damage\n";
+  out_ << "step,time,kinetic,strain,contact,external_work,balance_error,broken_bonds,max_damage\n";
   out_.flush();
 }
 
 void HistoryWriter::write_row(const Simulation& sim) {
   const Energies e = sim.energies();
   out_ << std::setprecision(10) << sim.step() << ',' << sim.time() << ',' << e.kinetic << ','
-       << e.strain << ',' << e.external_work << ',' << e.balance_error << ','
+       << e.strain << ',' << e.contact << ',' << e.external_work << ',' << e.balance_error << ','
        << sim.broken_bonds() << ',' << sim.max_damage() << '\n';
   out_.flush();
   if (!out_) throw std::runtime_error(path_ + ": writing the history failed");
@@ -47,7 +48,10 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
     bonds += b.bond_count();
     pairs += b.total_two_neighbour();
     triples += b.total_three_neighbour();
-    const FragmentCensus fragments = find_fragments(b);
+    // A rigid body has no bonds and is one piece.
+    const FragmentCensus fragments =
+        sb.rigid ? FragmentCensus{std::vector<std::uint32_t>(b.size(), 0), {b.size()}}
+                 : find_fragments(b);
     std::vector<std::size_t> sizes = fragments.size;
     std::sort(sizes.rbegin(), sizes.rend());
     if (sizes.size() > 10) sizes.resize(10);
@@ -86,9 +90,11 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
   const Energies e = sim.energies();
   j["energy"] = {{"kinetic", e.kinetic},
                  {"strain", e.strain},
+                 {"contact", e.contact},
                  {"external_work", e.external_work},
                  {"balance_error", e.balance_error}};
   j["bodies"] = bodies;
+  j["contact"] = contact_summary(sim);
   return j;
 }
 

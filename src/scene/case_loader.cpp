@@ -7,6 +7,8 @@
 #include "bodies/material.hpp"
 #include "src/geometry/lattice.hpp"
 #include "src/geometry/shape.hpp"
+#include "src/scene/contact_loader.hpp"
+#include "src/scene/rigid_body_loader.hpp"
 
 namespace ckpd {
 
@@ -56,6 +58,16 @@ std::vector<Precrack> read_precracks(const CaseNode& list, int dimension) {
 }
 
 SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>& materials) {
+  if (n.has("rigid")) {
+    // A rigid body's material, when it has one, gives only its density.
+    std::optional<double> density;
+    if (auto m = n.optional("material")) {
+      const auto it = materials.find(m->as_string());
+      if (it == materials.end()) m->fail("the name of a material in `materials`");
+      density = it->second.density;
+    }
+    return read_rigid_body(n, density);
+  }
   BodyDefinition def;
   def.name = n.required("name").as_string();
   const CaseNode material_node = n.required("material");
@@ -162,6 +174,13 @@ void read_conditions(const CaseNode& list, Scene& scene) {
     for (SceneBody& sb : scene.bodies)
       if (sb.body.name == name) target = &sb;
     if (!target) body_node.fail("the name of a body in `bodies`");
+    if (target->rigid) {
+      // A rigid body's motion is its `rigid` setting; loads (gravity, pulses) still apply.
+      const CaseNode type = c.required("type");
+      const std::string t = type.as_string();
+      if (t == "velocity" || t == "fixed" || t == "initial_velocity")
+        type.fail("a load on rigid body '" + name + "' (its motion is set by `rigid`)");
+    }
     std::unique_ptr<Condition> condition =
         make_condition(c, ConditionTarget{target->body, target->spacing});
     // Two conditions prescribing the same component of the same point contradict each other.
@@ -224,6 +243,7 @@ Scene load_scene(const std::string& case_file, const std::vector<std::string>& o
   }
   if (scene.bodies.empty()) bodies.fail("at least one body");
   if (auto c = root.optional("conditions")) read_conditions(*c, scene);
+  if (auto c = root.optional("contact")) scene.contact = read_contact(*c, scene);
   scene.time = read_time(root.required("time"));
   if (auto o = root.optional("output")) {
     if (auto h = o->optional("history_interval")) {

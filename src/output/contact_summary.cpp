@@ -1,0 +1,49 @@
+#include "src/output/contact_summary.hpp"
+
+namespace ckpd {
+
+namespace {
+
+nlohmann::ordered_json vector_json(const Vec3& v) {
+  return {v.x(), v.y(), v.z()};
+}
+
+nlohmann::ordered_json rigid_bodies(const Simulation& sim) {
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (const SceneBody& sb : sim.scene().bodies) {
+    if (!sb.rigid) continue;
+    const RigidMotion& r = *sb.rigid;
+    list.push_back({{"name", sb.body.name},
+                    {"motion", r.prescribed() ? "prescribed" : "free"},
+                    {"mass", r.mass()},
+                    {"centre", vector_json(r.centre())},
+                    {"velocity", vector_json(r.velocity())},
+                    {"angular_velocity", vector_json(r.angular_velocity())}});
+  }
+  return list;
+}
+
+}  // namespace
+
+nlohmann::ordered_json contact_summary(const Simulation& sim) {
+  nlohmann::ordered_json j;
+  const ContactManager* contact = sim.contact();
+  j["active"] = contact != nullptr;
+  if (contact) {
+    const ContactStatistics& s = contact->statistics();
+    j["broad_phase"] = contact->has_broad_phase();
+    j["broad_phase_rebuilds"] = s.rebuilds;
+    j["pairs_checked"] = s.pairs_checked;
+    j["candidate_pairs_peak"] = s.candidate_pairs_peak;
+    j["point_pairs_in_contact_peak"] = s.points_in_contact_peak;
+    j["point_pairs_in_contact"] = s.points_in_contact;
+    j["points_binned"] = s.points_binned;
+    j["point_pair_tests"] = s.point_pair_tests;
+    j["contact_seconds"] = s.seconds;
+  }
+  j["body_force_seconds"] = sim.body_force_seconds();
+  j["rigid_bodies"] = rigid_bodies(sim);
+  return j;
+}
+
+}  // namespace ckpd

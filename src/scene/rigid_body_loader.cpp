@@ -1,0 +1,81 @@
+#include "src/scene/rigid_body_loader.hpp"
+
+#include "src/geometry/lattice.hpp"
+#include "src/geometry/shape.hpp"
+
+namespace ckpd {
+
+namespace {
+
+constexpr std::size_t kDefaultMaxPoints = 20'000'000;
+
+}  // namespace
+
+SceneBody read_rigid_body(const CaseNode& n, std::optional<double> material_density) {
+  const std::string name = n.required("name").as_string();
+  int dimension = 3;
+  if (auto d = n.optional("dimension")) {
+    dimension = static_cast<int>(d->as_integer());
+    if (dimension != 2 && dimension != 3) d->fail("2 or 3");
+  }
+  for (const char* bonded : {"horizon", "horizon_ratio", "precracks", "no_failure", "plane"})
+    if (n.has(bonded))
+      n.required(bonded).fail(std::string("no `") + bonded + "` on a rigid body (it has no bonds)");
+
+  const CaseNode r = n.required("rigid");
+  const CaseNode motion_node = r.required("motion");
+  const std::string motion = motion_node.as_string();
+  if (motion != "prescribed" && motion != "free") motion_node.fail("'prescribed' or 'free'");
+  const RigidMotion::Kind kind =
+      motion == "free" ? RigidMotion::Kind::free : RigidMotion::Kind::prescribed;
+  Vec3 velocity = Vec3::Zero(), omega = Vec3::Zero();
+  if (auto v = r.optional("velocity")) velocity = v->as_vector(dimension);
+  if (auto w = r.optional("angular_velocity"))
+    omega = dimension == 3 ? w->as_vector(3) : Vec3(0, 0, w->as_double());
+  std::optional<double> mass;
+  if (auto m = r.optional("mass")) mass = m->as_positive();
+  if (mass && material_density)
+    r.required("mass").fail("either rigid.mass or a material (its density), not both");
+  if (kind == RigidMotion::Kind::free && !mass && !material_density)
+    r.fail("a mass for a free rigid body: rigid.mass (kg) or a material (its density)");
+  r.finish();
+
+  const double spacing = n.required("spacing").as_positive();
+  std::size_t max_points = kDefaultMaxPoints;
+  if (auto m = n.optional("max_points")) {
+    const long long v = m->as_integer();
+    if (v <= 0) m->fail("a positive point limit");
+    max_points = static_cast<std::size_t>(v);
+  }
+  const CaseNode geometry = n.required("geometry");
+  const std::unique_ptr<Shape> shape = make_shape(geometry, dimension);
+  LatticeSample sample;
+  try {
+    // The horizon only sizes the family-volume count, which a rigid body does not use.
+    sample = sample_lattice(*shape, dimension, spacing, spacing, max_points);
+  } catch (const std::invalid_argument& e) {
+    geometry.fail(std::string("a geometry that can be sampled (") + e.what() + ")");
+  }
+  if (sample.position.empty())
+    throw CaseError(geometry.where() + ": rigid body '" + name +
+                    "' has no points: the geometry holds no lattice site at spacing " +
+                    std::to_string(spacing) + " m");
+  n.finish();
+
+  double volume = 0;
+  for (double v : sample.volume) volume += v;
+  // A prescribed body without a mass books no kinetic energy; its motion needs none.
+  const double density = mass ? *mass / volume : material_density.value_or(0.0);
+  SceneBody sb;
+  sb.spacing = spacing;
+  try {
+    sb.body = make_point_set(name, dimension, std::move(sample.position), std::move(sample.volume),
+                             density);
+    sb.rigid.emplace(sb.body, kind, velocity, omega);
+  } catch (const std::invalid_argument& e) {
+    throw CaseError(n.where() + ": " + e.what());
+  }
+  return sb;
+}
+
+}  // namespace ckpd
