@@ -1,6 +1,9 @@
 #include "bodies/body.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <array>
+#include <unordered_map>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -97,6 +100,35 @@ PointCensus census_point(const FamilyScratch& s, bool pairs, bool triples) {
   return c;
 }
 
+// A point's family as the sorted list of its reference offsets in units of horizon * 2^-30.
+// Points with equal lists (the interior of a lattice: almost every point) have the same
+// interaction census, so it is computed once per distinct list. Offsets that differ by less
+// than a billionth of the horizon are the same lattice offset up to round-off.
+using QuantizedFamily = std::vector<std::array<std::int64_t, 3>>;
+
+QuantizedFamily quantized_family(const Body& body, std::size_t i) {
+  const double quantum = body.horizon * std::ldexp(1.0, -30);
+  QuantizedFamily f;
+  f.reserve(body.family.family_size(i));
+  for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
+    const Vec3 d = body.reference_position[body.family.neighbour[k]] - body.reference_position[i];
+    f.push_back({std::llround(d.x() / quantum), std::llround(d.y() / quantum),
+                 std::llround(d.z() / quantum)});
+  }
+  std::sort(f.begin(), f.end());
+  return f;
+}
+
+std::uint64_t hash_family(const QuantizedFamily& f) {
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the integers
+  for (const auto& o : f)
+    for (std::int64_t v : o) {
+      h ^= static_cast<std::uint64_t>(v);
+      h *= 1099511628211ull;
+    }
+  return h;
+}
+
 }  // namespace
 
 std::uint64_t Body::total_two_neighbour() const {
@@ -157,41 +189,72 @@ Body make_body(BodyDefinition def) {
                           ? 4.0 / 3.0 * std::numbers::pi * std::pow(body.horizon, 3)
                           : std::numbers::pi * body.horizon * body.horizon;
   const bool pairs = body.has_pairs(), triples = body.has_triples();
-  std::string error;
+  // Group points by family shape, then take one census per group.
+  std::vector<std::uint64_t> family_hash(n);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::size_t i = 0; i < n; ++i) family_hash[i] = hash_family(quantized_family(body, i));
+  std::vector<std::size_t> group(n);
+  std::vector<std::size_t> representative;
+  {
+    std::unordered_map<std::uint64_t, std::vector<std::size_t>> groups_by_hash;
+    for (std::size_t i = 0; i < n; ++i) {
+      auto& candidates = groups_by_hash[family_hash[i]];
+      std::size_t found = representative.size();
+      if (!candidates.empty()) {
+        const QuantizedFamily mine = quantized_family(body, i);
+        for (std::size_t g : candidates)
+          if (quantized_family(body, representative[g]) == mine) {
+            found = g;
+            break;
+          }
+      }
+      if (found == representative.size()) {
+        representative.push_back(i);
+        candidates.push_back(found);
+      }
+      group[i] = found;
+    }
+  }
+  std::vector<PointCensus> census(representative.size());
 #pragma omp parallel
   {
     FamilyScratch scratch;
-#pragma omp for schedule(dynamic, 64)
-    for (std::size_t i = 0; i < n; ++i) {
-      double family_volume = 0;
-      for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k)
-        family_volume += body.volume[body.family.neighbour[k]];
-      const double beta = family_volume / def.full_family_volume;
-      body.beta[i] = beta;
-      scratch.load(body, i, false, pairs || triples);
-      const PointCensus c = census_point(scratch, pairs, triples);
-      const double vh = beta * ball;
-      const std::size_t n1 = scratch.size();
-      body.n2[i] = c.n2;
-      body.n3[i] = c.n3;
-      body.dv1[i] = n1 ? vh / static_cast<double>(n1) : 0;
-      body.dv2[i] = c.n2 ? vh * vh / c.n2 : 0;
-      body.dv3[i] = c.n3 ? vh * vh * vh / c.n3 : 0;
-      const Mat3 q = std::abs(body.constants.c1) * body.dv1[i] * c.q1 +
-                     std::abs(body.constants.c2) * body.dv2[i] * c.q2 +
-                     std::abs(body.constants.c3) * body.dv3[i] * c.q3;
-      body.stiffness_bound[i] = Eigen::SelfAdjointEigenSolver<Mat3>(q, Eigen::EigenvaluesOnly)
-                                    .eigenvalues()
-                                    .maxCoeff();
-      if (beta > 1 + 1e-9) {
+#pragma omp for schedule(dynamic, 1)
+    for (std::size_t g = 0; g < representative.size(); ++g) {
+      scratch.load(body, representative[g], false, pairs || triples);
+      census[g] = census_point(scratch, pairs, triples);
+    }
+  }
+
+  std::string error;
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    double family_volume = 0;
+    for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k)
+      family_volume += body.volume[body.family.neighbour[k]];
+    const double beta = family_volume / def.full_family_volume;
+    body.beta[i] = beta;
+    const PointCensus& c = census[group[i]];
+    const double vh = beta * ball;
+    const std::size_t n1 = body.family.family_size(i);
+    body.n2[i] = c.n2;
+    body.n3[i] = c.n3;
+    body.dv1[i] = n1 ? vh / static_cast<double>(n1) : 0;
+    body.dv2[i] = c.n2 ? vh * vh / c.n2 : 0;
+    body.dv3[i] = c.n3 ? vh * vh * vh / c.n3 : 0;
+    const Mat3 q = std::abs(body.constants.c1) * body.dv1[i] * c.q1 +
+                   std::abs(body.constants.c2) * body.dv2[i] * c.q2 +
+                   std::abs(body.constants.c3) * body.dv3[i] * c.q3;
+    body.stiffness_bound[i] =
+        Eigen::SelfAdjointEigenSolver<Mat3>(q, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+    if (beta > 1 + 1e-9) {
 #pragma omp critical
-        if (error.empty()) {
-          std::ostringstream msg;
-          msg << "body '" << body.name << "': point " << i << " has a family volume " << beta
-              << " times the full family volume; the point volumes or the full family volume "
-                 "are inconsistent";
-          error = msg.str();
-        }
+      if (error.empty()) {
+        std::ostringstream msg;
+        msg << "body '" << body.name << "': point " << i << " has a family volume " << beta
+            << " times the full family volume; the point volumes or the full family volume "
+               "are inconsistent";
+        error = msg.str();
       }
     }
   }
