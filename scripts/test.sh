@@ -3,4 +3,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
-ctest --test-dir build --output-on-failure -j "$(nproc)" "$@"
+# One test at a time: each test already uses every core through OpenMP, and two OpenMP processes
+# sharing two cores slow each other down far more than they gain.
+ctest --test-dir build --output-on-failure "$@"

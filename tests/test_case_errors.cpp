@@ -117,7 +117,7 @@ TEST_CASE("a time step above the stable estimate is refused unless forced", "[cl
                   {"exceeds the stable-step estimate", "allow_unstable_dt"});
 }
 
-TEST_CASE("--set overrides a value and rejects a path that does not exist", "[cli]") {
+TEST_CASE("a --set override changes a value, and a path that does not exist is rejected", "[cli]") {
   const auto dir = fresh_dir("set");
   const std::string file = write_file(dir / "case.yaml", kGoodCase);
   CommandResult r = run_ckpd("run " + file + " --quiet --out " + (dir / "out").string() +
