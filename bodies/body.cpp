@@ -3,11 +3,11 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
-#include <unordered_map>
 #include <cmath>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "bodies/damage.hpp"
 #include "bodies/family_scratch.hpp"
@@ -185,9 +185,8 @@ Body make_body(BodyDefinition def) {
   body.n3.assign(n, 0);
   body.stiffness_bound.resize(n);
 
-  const double ball = body.dimension == 3
-                          ? 4.0 / 3.0 * std::numbers::pi * std::pow(body.horizon, 3)
-                          : std::numbers::pi * body.horizon * body.horizon;
+  const double ball = body.dimension == 3 ? 4.0 / 3.0 * std::numbers::pi * std::pow(body.horizon, 3)
+                                          : std::numbers::pi * body.horizon * body.horizon;
   const bool pairs = body.has_pairs(), triples = body.has_triples();
   // Group points by family shape, then take one census per group.
   std::vector<std::uint64_t> family_hash(n);

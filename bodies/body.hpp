@@ -67,7 +67,7 @@ struct Body {
   std::vector<Vec3> velocity;
   std::vector<Vec3> acceleration;
   std::vector<Vec3> external_force_density;
-  std::vector<Vec3> force_density;          // total: internal + external + contact
+  std::vector<Vec3> force_density;            // total: internal + external + contact
   std::vector<double> strain_energy_density;  // W1/2 + W2/3 + W3/4, filled on request
 
   std::size_t size() const { return reference_position.size(); }

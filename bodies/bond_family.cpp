@@ -48,7 +48,8 @@ CellGrid make_grid(const std::vector<Vec3>& X, double horizon) {
   for (;;) {
     double total = 1;
     for (int d = 0; d < 3; ++d) {
-      g.count[d] = std::max<std::int64_t>(1, static_cast<std::int64_t>((hi[d] - lo[d]) / g.cell) + 1);
+      g.count[d] =
+          std::max<std::int64_t>(1, static_cast<std::int64_t>((hi[d] - lo[d]) / g.cell) + 1);
       total *= static_cast<double>(g.count[d]);
     }
     if (total <= max_cells) break;

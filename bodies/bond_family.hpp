@@ -20,7 +20,7 @@ inline bool within_horizon(const Vec3& offset, double horizon) {
 }
 
 struct BondFamily {
-  std::vector<std::size_t> offset;     // size points + 1
+  std::vector<std::size_t> offset;       // size points + 1
   std::vector<std::uint32_t> neighbour;  // size bonds (each bond twice: i->j and j->i)
 
   std::size_t points() const { return offset.empty() ? 0 : offset.size() - 1; }

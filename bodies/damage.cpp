@@ -112,8 +112,8 @@ void point_damage(const Body& body, std::vector<double>& damage) {
     const std::size_t begin = body.family.offset[i], end = body.family.offset[i + 1];
     std::size_t intact = 0;
     for (std::size_t k = begin; k < end; ++k) intact += body.bond_intact[k];
-    damage[i] = end > begin ? 1.0 - static_cast<double>(intact) / static_cast<double>(end - begin)
-                            : 0.0;
+    damage[i] =
+        end > begin ? 1.0 - static_cast<double>(intact) / static_cast<double>(end - begin) : 0.0;
   }
 }
 

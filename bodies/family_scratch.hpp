@@ -21,8 +21,8 @@ class FamilyScratch {
   // and, when `pairs_needed`, the adjacency rows. With `intact_only`, failed bonds are left out.
   void load(const Body& body, std::size_t i, bool intact_only, bool pairs_needed) {
     const std::size_t begin = body.family.offset[i], end = body.family.offset[i + 1];
-    const Vec3 Xi = body.reference_position[i], ui = body.displacement.empty() ? Vec3::Zero()
-                                                                              : body.displacement[i];
+    const Vec3 Xi = body.reference_position[i],
+               ui = body.displacement.empty() ? Vec3::Zero() : body.displacement[i];
     const bool has_u = !body.displacement.empty();
     size_ = 0;
     grow(end - begin);
@@ -38,7 +38,8 @@ class FamilyScratch {
     if (!pairs_needed) return;
     const double limit = body.horizon * (1 + kHorizonTolerance);
     const double limit2 = limit * limit;
-    std::fill(adjacency.begin(), adjacency.begin() + static_cast<std::ptrdiff_t>(size_ * words_), 0);
+    std::fill(adjacency.begin(), adjacency.begin() + static_cast<std::ptrdiff_t>(size_ * words_),
+              0);
     for (std::size_t a = 0; a < size_; ++a) {
       for (std::size_t b = a + 1; b < size_; ++b) {
         if ((ref[b] - ref[a]).squaredNorm() <= limit2) {

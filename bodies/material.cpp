@@ -83,13 +83,13 @@ double critical_stretch_from_fracture_energy(int dimension, double E, double nu,
   if (!(horizon > 0)) throw std::invalid_argument("horizon must be positive");
   const ElasticModuli m = elastic_moduli(dimension, E, nu, plane);
   const double G = m.mu, K = m.bulk, pi = std::numbers::pi;
-  const double stiffness = dimension == 3
-                               ? 3 * G + std::pow(0.75, 4) * (K - 5 * G / 3)
-                               : 6 * G / pi + 16 / (9 * pi * pi) * (K - 2 * G);
+  const double stiffness = dimension == 3 ? 3 * G + std::pow(0.75, 4) * (K - 5 * G / 3)
+                                          : 6 * G / pi + 16 / (9 * pi * pi) * (K - 2 * G);
   if (!(stiffness > 0))
-    throw std::invalid_argument("the Griffith critical-stretch formula has no real solution for "
-                                "this E, nu (its stiffness term is not positive); give "
-                                "critical_stretch directly");
+    throw std::invalid_argument(
+        "the Griffith critical-stretch formula has no real solution for "
+        "this E, nu (its stiffness term is not positive); give "
+        "critical_stretch directly");
   return std::sqrt(Gc / (horizon * stiffness));
 }
 

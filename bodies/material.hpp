@@ -37,7 +37,7 @@ InteractionConstants interaction_constants(int dimension, double youngs_modulus,
 
 // Critical bond stretch from the Griffith energy Gc (MODEL.md section 4, seed 000 eq. 3.3).
 double critical_stretch_from_fracture_energy(int dimension, double youngs_modulus,
-                                             double poisson_ratio, PlaneMode plane,
-                                             double horizon, double fracture_energy);
+                                             double poisson_ratio, PlaneMode plane, double horizon,
+                                             double fracture_energy);
 
 }  // namespace ckpd

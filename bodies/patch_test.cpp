@@ -40,7 +40,8 @@ double energy_ratio(const Body& body, const Eigen::Matrix3d& e, const ElasticMod
   for (std::size_t i = 0; i < b.size(); ++i) b.displacement[i] = e * b.reference_position[i];
   FamilyScratch scratch;
   const double w = evaluate_point(b, 0, scratch).strain_energy_density();
-  const double continuum = 0.5 * moduli.lambda * e.trace() * e.trace() + moduli.mu * (e.array() * e.array()).sum();
+  const double continuum =
+      0.5 * moduli.lambda * e.trace() * e.trace() + moduli.mu * (e.array() * e.array()).sum();
   return w / continuum;
 }
 

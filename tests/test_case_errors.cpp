@@ -108,7 +108,9 @@ TEST_CASE("a condition naming an unknown body or an empty region is rejected", "
   text += "conditions:\n  - {type: fixed, body: plat}\n";
   expect_rejected(text, {"conditions[0].body", "name of a body"});
   text = kGoodCase;
-  text += "conditions:\n  - {type: fixed, body: plate, region: {type: box, min: [1, 1], max: [2, 2]}}\n";
+  text +=
+      "conditions:\n  - {type: fixed, body: plate, region: {type: box, min: [1, 1], max: [2, "
+      "2]}}\n";
   expect_rejected(text, {"conditions[0].region", "holds no point"});
 }
 
@@ -131,8 +133,7 @@ TEST_CASE("a --set override changes a value, and a path that does not exist is r
                " --set bodies.slab.spacing=0.01");
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("no element 'slab'") != std::string::npos);
-  r = run_ckpd("run " + file + " --quiet --out " + (dir / "out2").string() +
-               " --set time.stpes=3");
+  r = run_ckpd("run " + file + " --quiet --out " + (dir / "out2").string() + " --set time.stpes=3");
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("time.stpes") != std::string::npos);
 }

@@ -7,10 +7,10 @@
 #include <random>
 #include <sstream>
 
+#include "bodies/internal_force.hpp"
 #include "bodies/material.hpp"
 #include "bodies/patch_test.hpp"
 #include "run_helpers.hpp"
-#include "bodies/internal_force.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/scene/case_loader.hpp"
 
@@ -139,7 +139,7 @@ time: {end: 13.0e-6}
   }
   const double c_measured = (stations[1] - stations[0]) / (arrival[1] - arrival[0]);
   INFO("measured " << c_measured << " m/s, bar modulus speed " << c_bar
-                    << " m/s, interior patch-test speed " << c_eff << " m/s");
+                   << " m/s, interior patch-test speed " << c_eff << " m/s");
   CHECK(c_measured == Approx(c_bar).epsilon(0.03));
   CHECK(c_bar < c_eff);
 }
@@ -206,8 +206,9 @@ TEST_CASE("an unstable run exits non-zero and leaves a readable history and summ
   Scene probe = scene_from_text("probe2", kCube);
   const double estimate = choose_time_step(probe).estimate;
   std::string text = kCube;
-  text += "conditions:\n  - {type: initial_velocity, body: cube, value: [1, 0, 0], "
-          "angular_velocity: [0, 0, 300], center: [0.003, 0.003, 0.003]}\n";
+  text +=
+      "conditions:\n  - {type: initial_velocity, body: cube, value: [1, 0, 0], "
+      "angular_velocity: [0, 0, 300], center: [0.003, 0.003, 0.003]}\n";
   std::ostringstream time;
   time.precision(17);
   time << "time: {steps: 2000, dt: " << 3 * estimate

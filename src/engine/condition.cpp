@@ -39,7 +39,8 @@ std::vector<std::uint32_t> select_points(const std::optional<CaseNode>& region,
   }
   const std::unique_ptr<Shape> shape = make_shape(*region, body.dimension);
   for (std::size_t i = 0; i < body.size(); ++i)
-    if (shape->contains(body.reference_position[i])) points.push_back(static_cast<std::uint32_t>(i));
+    if (shape->contains(body.reference_position[i]))
+      points.push_back(static_cast<std::uint32_t>(i));
   if (points.empty())
     throw CaseError(region->where() + ": the region holds no point of body '" + body.name + "'");
   return points;

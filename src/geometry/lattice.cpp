@@ -47,8 +47,10 @@ LatticeSample sample_lattice(const Shape& shape, int dimension, double dx, doubl
         Vec3 p = centre;
         p.x() += (static_cast<double>(i) - (static_cast<double>(n[0]) - 1) / 2) * dx;
         p.y() += (static_cast<double>(j) - (static_cast<double>(n[1]) - 1) / 2) * dx;
-        if (dimension == 3) p.z() += (static_cast<double>(k) - (static_cast<double>(n[2]) - 1) / 2) * dx;
-        else p.z() = 0;
+        if (dimension == 3)
+          p.z() += (static_cast<double>(k) - (static_cast<double>(n[2]) - 1) / 2) * dx;
+        else
+          p.z() = 0;
         if (shape.contains(p)) {
           s.position.push_back(p);
           s.volume.push_back(cell);

@@ -40,7 +40,9 @@ void CaseNode::fail(const std::string& expected) const {
   throw CaseError(where() + ": expected " + expected + ", got " + node_text(node_));
 }
 
-bool CaseNode::has(const std::string& key) const { return node_.IsMap() && node_[key]; }
+bool CaseNode::has(const std::string& key) const {
+  return node_.IsMap() && node_[key];
+}
 
 std::optional<CaseNode> CaseNode::optional(const std::string& key) const {
   if (!node_.IsMap()) fail("a map");
@@ -161,7 +163,8 @@ YAML::Node load_case_yaml(const std::string& file, const std::vector<std::string
   } catch (const YAML::BadFile&) {
     throw CaseError(file + ": cannot read the case file");
   }
-  if (!root.IsMap()) throw CaseError(file + ": a case file is a map of sections (materials, bodies, ...)");
+  if (!root.IsMap())
+    throw CaseError(file + ": a case file is a map of sections (materials, bodies, ...)");
 
   for (const std::string& item : overrides) {
     const auto eq = item.find('=');
@@ -186,7 +189,8 @@ YAML::Node load_case_yaml(const std::string& file, const std::vector<std::string
       YAML::Node next;
       if (node.IsSequence()) {
         bool found = false;
-        const bool numeric = !key.empty() && key.find_first_not_of("0123456789") == std::string::npos;
+        const bool numeric =
+            !key.empty() && key.find_first_not_of("0123456789") == std::string::npos;
         for (std::size_t e = 0; e < node.size() && !found; ++e) {
           if ((numeric && std::stoul(key) == e) ||
               (node[e].IsMap() && node[e]["name"] && node[e]["name"].Scalar() == key)) {
