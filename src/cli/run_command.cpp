@@ -6,8 +6,11 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "src/engine/simulation.hpp"
+#include "src/output/field_writer.hpp"
+#include "src/output/progress.hpp"
 #include "src/output/run_output.hpp"
 #include "src/scene/case_loader.hpp"
 
@@ -62,37 +65,50 @@ int run(const RunOptions& opt) {
   const long long interval = scene.output.history_interval > 0
                                  ? scene.output.history_interval
                                  : std::max<long long>(1, total / 200);
+  std::optional<FieldWriter> fields;
+  if (scene.output.writes_fields()) fields.emplace(out, scene.output.fields);
+  const OutputSettings& o = scene.output;
+  const double dt = sim.step_choice().dt;
+  // Frame k is written at the first step whose time reaches k * field_time_interval.
+  auto frame_due = [&](long long step, double time) {
+    if (!fields) return false;
+    if (o.field_interval > 0) return step % o.field_interval == 0;
+    return time >= static_cast<double>(fields->frames()) * o.field_time_interval - 1e-9 * dt;
+  };
   history.write_row(sim);
-  auto last_report = start;
+  if (fields) fields->write_frame(sim);
   auto seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   auto summary = [&](const std::string& status, const std::string& message) {
     auto j = make_summary(sim, status, message, seconds());
     j["setup_seconds"] = setup_seconds;
-    j["seconds_per_step"] = sim.step() > 0 ? (seconds() - setup_seconds) / static_cast<double>(sim.step()) : 0.0;
+    j["seconds_per_step"] =
+        sim.step() > 0 ? (seconds() - setup_seconds) / static_cast<double>(sim.step()) : 0.0;
     j["threads"] = omp_get_max_threads();
+    if (fields) j["field_frames"] = fields->frames();
     return j;
   };
+  ProgressReporter progress(!opt.quiet, total);
   try {
     while (sim.step() < total) {
-      const bool row = (sim.step() + 1) % interval == 0 || sim.step() + 1 == total;
-      sim.advance(row);
+      const long long next = sim.step() + 1;
+      const bool last = next == total;
+      const bool row = next % interval == 0 || last;
+      const bool frame = frame_due(next, static_cast<double>(next) * dt) || (fields && last);
+      sim.advance(row || (frame && fields->needs_energy()));
       if (row) history.write_row(sim);
-      const auto now = std::chrono::steady_clock::now();
-      if (!opt.quiet && now - last_report > std::chrono::seconds(5)) {
-        last_report = now;
-        std::cout << "step " << sim.step() << "/" << total << ", t = " << sim.time()
-                  << " s, max damage " << sim.max_damage() << ", " << seconds() << " s\n"
-                  << std::flush;
-      }
+      if (frame) fields->write_frame(sim);
+      progress.update(sim);
     }
   } catch (const InstabilityError& e) {
+    progress.finish();
     history.write_row(sim);
     write_json(out + "/summary.json", summary("unstable", e.what()));
     std::cerr << "ckpd: " << e.what() << "\nckpd: results up to that step are in " << out << '\n';
     return 3;
   }
+  progress.finish();
   write_json(out + "/summary.json", summary("completed", ""));
   if (!opt.quiet) {
     std::cout << "completed " << sim.step() << " steps in " << seconds() << " s; peak RSS "

@@ -31,6 +31,12 @@ struct TimeSettings {
 
 struct OutputSettings {
   long long history_interval = 0;  // steps between history rows; 0: about 200 rows in the run
+  // Field frames (HDF5 + XDMF): every `field_interval` steps or every `field_time_interval`
+  // seconds of simulated time; neither set means no field output at all.
+  std::vector<std::string> fields;
+  long long field_interval = 0;
+  double field_time_interval = 0;
+  bool writes_fields() const { return field_interval > 0 || field_time_interval > 0; }
 };
 
 struct Scene {

@@ -1,5 +1,6 @@
 #include "src/scene/case_loader.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -7,6 +8,7 @@
 #include "bodies/material.hpp"
 #include "src/geometry/lattice.hpp"
 #include "src/geometry/shape.hpp"
+#include "src/output/field_writer.hpp"
 #include "src/scene/contact_loader.hpp"
 #include "src/scene/rigid_body_loader.hpp"
 
@@ -249,6 +251,29 @@ Scene load_scene(const std::string& case_file, const std::vector<std::string>& o
     if (auto h = o->optional("history_interval")) {
       scene.output.history_interval = h->as_integer();
       if (scene.output.history_interval <= 0) h->fail("a positive number of steps");
+    }
+    const auto steps = o->optional("field_interval");
+    const auto seconds = o->optional("field_time_interval");
+    if (steps && seconds) o->fail("either field_interval (steps) or field_time_interval (s)");
+    if (steps) {
+      scene.output.field_interval = steps->as_integer();
+      if (scene.output.field_interval <= 0) steps->fail("a positive number of steps");
+    }
+    if (seconds) scene.output.field_time_interval = seconds->as_positive();
+    if (auto f = o->optional("fields")) {
+      if (!steps && !seconds) f->fail("fields together with field_interval or field_time_interval");
+      for (const CaseNode& name : f->elements()) {
+        const std::string field = name.as_string();
+        const auto& known = known_field_names();
+        if (std::find(known.begin(), known.end(), field) == known.end()) {
+          std::string list;
+          for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+          name.fail("a field name (" + list + ")");
+        }
+        scene.output.fields.push_back(field);
+      }
+    } else if (steps || seconds) {
+      scene.output.fields = {"position", "displacement", "velocity", "damage", "body_id"};
     }
     o->finish();
   }

@@ -1,0 +1,44 @@
+#pragma once
+// Field output for ParaView: one HDF5 file per output frame (DIR/fields/frame_NNNNNN.h5, one
+// group per body) and DIR/fields.xdmf, a temporal collection of those frames with points as
+// vertex cells, one block per body and the real time values. Each frame file is written under
+// a temporary name and renamed when complete, and the XDMF is rewritten the same way after each
+// frame, so a run killed at any moment leaves every complete frame readable.
+#include <string>
+#include <vector>
+
+#include "src/engine/simulation.hpp"
+
+namespace ckpd {
+
+// position, displacement, velocity, damage, body_id, strain_energy_density, force_density.
+const std::vector<std::string>& known_field_names();
+
+class FieldWriter {
+ public:
+  // `fields`: names from known_field_names() (position is always written: ParaView needs it).
+  // Throws std::invalid_argument for an unknown name, std::runtime_error when `directory`
+  // cannot be written.
+  FieldWriter(std::string directory, std::vector<std::string> fields);
+
+  // Writes the current state as the next frame.
+  void write_frame(const Simulation& sim);
+
+  // Whether strain_energy_density is written (it needs an energy evaluation on frame steps).
+  bool needs_energy() const;
+  std::size_t frames() const { return frames_.size(); }
+
+ private:
+  struct Frame {
+    std::string file;  // relative to the output directory
+    double time;
+    std::vector<std::size_t> points;  // per body
+  };
+  void write_xdmf(const Simulation& sim) const;
+
+  std::string directory_;
+  std::vector<std::string> fields_;
+  std::vector<Frame> frames_;
+};
+
+}  // namespace ckpd
