@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "bodies/family_scratch.hpp"
+#include "bodies/internal_force.hpp"
+
 namespace ckpd {
 
 namespace {
@@ -104,6 +107,54 @@ std::size_t update_bond_failure(Body& body) {
     }
   }
   return failed;
+}
+
+FailureUpdate fail_overstretched_bonds(Body& body) {
+  FailureUpdate result;
+  if (!body.damage_enabled) return result;
+  // Points with a bond about to fail (found with the same test update_bond_failure applies).
+  const std::size_t n = body.size();
+  const bool protect = !body.no_failure.empty();
+  std::vector<std::uint8_t> touched(n, 0);
+  bool any = false;
+#pragma omp parallel for schedule(static) reduction(|| : any)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (protect && body.no_failure[i]) continue;
+    const Vec3 Xi = body.reference_position[i], ui = body.displacement[i];
+    for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
+      if (!body.bond_intact[k]) continue;
+      const std::uint32_t j = body.family.neighbour[k];
+      if (protect && body.no_failure[j]) continue;
+      if (bond_stretch(body.reference_position[j] - Xi, body.displacement[j] - ui) >
+          body.critical_stretch) {
+        touched[i] = 1;
+        any = true;
+        break;
+      }
+    }
+  }
+  if (!any) return result;
+  std::vector<std::uint32_t> points;
+  for (std::size_t i = 0; i < n; ++i)
+    if (touched[i]) points.push_back(static_cast<std::uint32_t>(i));
+  std::vector<double> before(points.size());
+  double dissipated = 0;
+#pragma omp parallel
+  {
+    FamilyScratch scratch;
+#pragma omp for schedule(dynamic, 4)
+    for (std::size_t p = 0; p < points.size(); ++p)
+      before[p] = evaluate_point(body, points[p], scratch).strain_energy_density();
+#pragma omp single
+    result.failed = update_bond_failure(body);
+#pragma omp for schedule(dynamic, 4) reduction(+ : dissipated)
+    for (std::size_t p = 0; p < points.size(); ++p) {
+      const double after = evaluate_point(body, points[p], scratch).strain_energy_density();
+      dissipated += body.volume[points[p]] * (before[p] - after);
+    }
+  }
+  result.dissipated = dissipated;
+  return result;
 }
 
 void point_damage(const Body& body, std::vector<double>& damage) {

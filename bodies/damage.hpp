@@ -30,6 +30,18 @@ std::size_t apply_precrack(Body& body, const Precrack& crack);
 // so they fail together. Returns the number of bonds (each counted once) that failed now.
 std::size_t update_bond_failure(Body& body);
 
+// update_bond_failure with energy bookkeeping: also returns the strain energy the failures
+// removed, sum over the end points p of failing bonds of V^p (W^p before - W^p after), where W^p
+// is p's own-family energy density W1/2 + W2/3 + W3/4. Only the two ends of a bond see their
+// sums change: d2 and d3 depend on the centre's bonds alone. (This is the energy of the lost
+// interactions at the moment of failure; the damaged model's later forces are not the gradient
+// of one potential, so a balance with damage closes only approximately; see docs/VALIDATION.md.)
+struct FailureUpdate {
+  std::size_t failed = 0;   // bonds, each counted once
+  double dissipated = 0;    // J (J/m in 2D)
+};
+FailureUpdate fail_overstretched_bonds(Body& body);
+
 // Point damage D^i = 1 - intact / all bonds of the family (0 for a point with no bonds).
 void point_damage(const Body& body, std::vector<double>& damage);
 double max_point_damage(const Body& body);

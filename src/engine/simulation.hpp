@@ -36,8 +36,9 @@ struct Energies {
   double strain = 0;
   double contact = 0;        // contact potential (contact/contact_law.hpp)
   double external_work = 0;  // work done on the bodies by loads and prescribed motion
-  // kinetic + strain + contact - external_work - (its value at t = 0): zero for exact, undamaged
-  // dynamics.
+  double dissipated = 0;     // strain energy of interactions lost when their bonds failed
+  // kinetic + strain + contact + dissipated - external_work - (its value at t = 0): zero for
+  // exact, undamaged dynamics.
   double balance_error = 0;
 };
 
@@ -77,6 +78,7 @@ class Simulation {
   double time_ = 0;
   long long step_ = 0;
   double external_work_ = 0;
+  double dissipated_ = 0;
   double strain_energy_ = 0;
   double initial_total_ = 0;
   std::vector<std::size_t> initially_failed_;

@@ -14,14 +14,15 @@ namespace ckpd {
 
 HistoryWriter::HistoryWriter(const std::string& path) : out_(path), path_(path) {
   if (!out_) throw std::runtime_error(path + ": cannot write the history file");
-  out_ << "step,time,kinetic,strain,contact,external_work,balance_error,broken_bonds,max_damage\n";
+  out_ << "step,time,kinetic,strain,contact,external_work,dissipated,balance_error,broken_bonds,"
+          "max_damage\n";
   out_.flush();
 }
 
 void HistoryWriter::write_row(const Simulation& sim) {
   const Energies e = sim.energies();
   out_ << std::setprecision(10) << sim.step() << ',' << sim.time() << ',' << e.kinetic << ','
-       << e.strain << ',' << e.contact << ',' << e.external_work << ',' << e.balance_error << ','
+       << e.strain << ',' << e.contact << ',' << e.external_work << ',' << e.dissipated << ',' << e.balance_error << ','
        << sim.broken_bonds() << ',' << sim.max_damage() << '\n';
   out_.flush();
   if (!out_) throw std::runtime_error(path_ + ": writing the history failed");
@@ -92,6 +93,7 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
                  {"strain", e.strain},
                  {"contact", e.contact},
                  {"external_work", e.external_work},
+                 {"dissipated", e.dissipated},
                  {"balance_error", e.balance_error}};
   j["bodies"] = bodies;
   j["contact"] = contact_summary(sim);
