@@ -36,9 +36,9 @@ void write_dataset(hid_t group, const std::string& name, const double* data, std
                    std::size_t columns) {
   const hsize_t dims[2] = {rows, columns};
   Handle space(H5Screate_simple(columns == 1 ? 1 : 2, dims, nullptr), H5Sclose, "make a dataspace");
-  Handle set(H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT,
-                        H5P_DEFAULT),
-             H5Dclose, "create dataset " + name);
+  Handle set(
+      H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+      H5Dclose, "create dataset " + name);
   if (rows > 0 && H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
     throw std::runtime_error("HDF5: cannot write dataset " + name);
 }
@@ -46,9 +46,9 @@ void write_dataset(hid_t group, const std::string& name, const double* data, std
 void write_dataset(hid_t group, const std::string& name, const std::vector<std::int32_t>& data) {
   const hsize_t dims[1] = {data.size()};
   Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose, "make a dataspace");
-  Handle set(H5Dcreate2(group, name.c_str(), H5T_STD_I32LE, space, H5P_DEFAULT, H5P_DEFAULT,
-                        H5P_DEFAULT),
-             H5Dclose, "create dataset " + name);
+  Handle set(
+      H5Dcreate2(group, name.c_str(), H5T_STD_I32LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+      H5Dclose, "create dataset " + name);
   if (!data.empty() &&
       H5Dwrite(set, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
     throw std::runtime_error("HDF5: cannot write dataset " + name);
@@ -78,11 +78,20 @@ std::string xml_escape(const std::string& s) {
   std::string out;
   for (char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -96,10 +105,9 @@ bool is_vector_field(const std::string& name) {
 }  // namespace
 
 const std::vector<std::string>& known_field_names() {
-  static const std::vector<std::string> names{"position",      "displacement",
-                                              "velocity",      "damage",
-                                              "body_id",       "strain_energy_density",
-                                              "force_density"};
+  static const std::vector<std::string> names{
+      "position", "displacement",          "velocity",     "damage",
+      "body_id",  "strain_energy_density", "force_density"};
   return names;
 }
 
@@ -147,16 +155,16 @@ void FieldWriter::write_frame(const Simulation& sim) {
       const Body& body = bodies[b].body;
       const std::size_t n = body.size();
       frame.points.push_back(n);
-      Handle group(H5Gcreate2(file, ("body_" + std::to_string(b)).c_str(), H5P_DEFAULT,
-                              H5P_DEFAULT, H5P_DEFAULT),
+      Handle group(H5Gcreate2(file, ("body_" + std::to_string(b)).c_str(), H5P_DEFAULT, H5P_DEFAULT,
+                              H5P_DEFAULT),
                    H5Gclose, "create a body group");
       write_string_attribute(group, "name", body.name);
       const int dimension = body.dimension;
       write_attribute(group, "dimension", H5T_STD_I32LE, H5T_NATIVE_INT, dimension);
       for (const std::string& f : fields_) {
         if (is_vector_field(f)) {
-          const std::vector<Vec3>* v = f == "displacement" ? &body.displacement
-                                       : f == "velocity"   ? &body.velocity
+          const std::vector<Vec3>* v = f == "displacement"    ? &body.displacement
+                                       : f == "velocity"      ? &body.velocity
                                        : f == "force_density" ? &body.force_density
                                                               : nullptr;
           buffer.resize(3 * n);

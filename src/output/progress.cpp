@@ -31,10 +31,11 @@ void ProgressReporter::print(const Simulation& sim) {
   const double eta = rate > 0 ? static_cast<double>(total_ - sim.step()) / rate : 0.0;
   const Energies e = sim.energies();
   const double scale = std::max({std::abs(e.external_work), e.kinetic + e.strain, 1e-300});
-  std::printf("%sstep %lld/%lld  t = %.4g s  %.3g steps/s  ETA %.0f s  max damage %.3f  "
-              "energy error %.2g%%%s",
-              terminal_ ? "\r" : "", sim.step(), total_, sim.time(), rate, eta, sim.max_damage(),
-              100 * std::abs(e.balance_error) / scale, terminal_ ? "\033[K" : "\n");
+  std::printf(
+      "%sstep %lld/%lld  t = %.4g s  %.3g steps/s  ETA %.0f s  max damage %.3f  "
+      "energy error %.2g%%%s",
+      terminal_ ? "\r" : "", sim.step(), total_, sim.time(), rate, eta, sim.max_damage(),
+      100 * std::abs(e.balance_error) / scale, terminal_ ? "\033[K" : "\n");
   std::fflush(stdout);
   line_open_ = terminal_;
 }
