@@ -226,12 +226,19 @@ Body make_body(BodyDefinition def) {
   }
 
   std::string error;
-#pragma omp parallel for schedule(static)
+  constexpr double kBetaTolerance = 1e-9;
+  double beta_max_raw = 0;
+  std::size_t beta_capped = 0;
+#pragma omp parallel for schedule(static) reduction(max : beta_max_raw) reduction(+ : beta_capped)
   for (std::size_t i = 0; i < n; ++i) {
     double family_volume = 0;
     for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k)
       family_volume += body.volume[body.family.neighbour[k]];
-    const double beta = family_volume / def.full_family_volume;
+    const double raw_beta = family_volume / def.full_family_volume;
+    beta_max_raw = std::max(beta_max_raw, raw_beta);
+    const bool over = raw_beta > 1 + kBetaTolerance;
+    if (over && def.cap_beta) ++beta_capped;
+    const double beta = over && def.cap_beta ? 1.0 : raw_beta;
     body.beta[i] = beta;
     const PointCensus& c = census[group[i]];
     const double vh = beta * ball;
@@ -246,18 +253,21 @@ Body make_body(BodyDefinition def) {
                    std::abs(body.constants.c3) * body.dv3[i] * c.q3;
     body.stiffness_bound[i] =
         Eigen::SelfAdjointEigenSolver<Mat3>(q, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
-    if (beta > 1 + 1e-9) {
+    if (over && !def.cap_beta) {
 #pragma omp critical
       if (error.empty()) {
         std::ostringstream msg;
-        msg << "body '" << body.name << "': point " << i << " has a family volume " << beta
+        msg << "body '" << body.name << "': point " << i << " has a family volume " << raw_beta
             << " times the full family volume; the point volumes or the full family volume "
-               "are inconsistent";
+               "are inconsistent (irregular point clouds: see `beta: capped`)";
         error = msg.str();
       }
     }
   }
   if (!error.empty()) throw std::invalid_argument(error);
+  body.beta_cap = def.cap_beta;
+  body.beta_capped_points = beta_capped;
+  body.beta_max_raw = beta_max_raw;
 
   body.displacement.assign(n, Vec3::Zero());
   body.velocity.assign(n, Vec3::Zero());
@@ -268,6 +278,18 @@ Body make_body(BodyDefinition def) {
 
   for (const Precrack& crack : def.precracks) apply_precrack(body, crack);
   return body;
+}
+
+StiffnessTerms stiffness_terms(const Body& body, std::size_t i) {
+  FamilyScratch scratch;
+  scratch.load(body, i, false, body.has_pairs() || body.has_triples());
+  const PointCensus c = census_point(scratch, body.has_pairs(), body.has_triples());
+  auto largest = [](const Mat3& m) {
+    return Eigen::SelfAdjointEigenSolver<Mat3>(m, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+  };
+  return {largest(std::abs(body.constants.c1) * body.dv1[i] * c.q1),
+          largest(std::abs(body.constants.c2) * body.dv2[i] * c.q2),
+          largest(std::abs(body.constants.c3) * body.dv3[i] * c.q3)};
 }
 
 StableStep stable_step(const Body& body) {

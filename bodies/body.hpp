@@ -35,6 +35,10 @@ struct BodyDefinition {
   // beta^i is the family's point volume over this (MODEL.md section 1). For a lattice it is the
   // number of lattice offsets within the horizon times the cell volume.
   double full_family_volume = 0;
+  // A family volume above the full one is an error unless this is set; then beta is capped at
+  // 1 there. Irregular point clouds need it: with locally varying spacing a point's family can
+  // hold more volume than the lattice reference, although its neighbourhood is simply full.
+  bool cap_beta = false;
   std::vector<std::uint8_t> no_failure;  // empty, or one flag per point: its bonds never fail
   std::vector<Precrack> precracks;
 };
@@ -53,6 +57,10 @@ struct Body {
   std::vector<Vec3> reference_position;
   std::vector<double> volume;
   std::vector<double> beta;             // fullness of the family
+  // What the fullness looked like before any cap (reported in the setup and the summary).
+  bool beta_cap = false;                // BodyDefinition::cap_beta
+  std::size_t beta_capped_points = 0;   // points whose raw beta exceeded 1 (+1e-9) and was capped
+  double beta_max_raw = 0;              // the largest raw beta
   std::vector<double> dv1, dv2, dv3;    // effective volumes VH/N1, VH^2/N2, VH^3/N3
   std::vector<std::uint32_t> n2, n3;    // ordered, non-degenerate sets (N1 = family size)
   std::vector<double> stiffness_bound;  // k_i: bound of the linearised stiffness, N/m^3/m
@@ -92,5 +100,12 @@ struct StableStep {
   std::size_t point = 0;
 };
 StableStep stable_step(const Body& body);
+
+// Point i's stiffness bound split by interaction family (the largest eigenvalue of each
+// family's part of the bound matrix), to tell which term limits the time step.
+struct StiffnessTerms {
+  double bonds = 0, pairs = 0, triples = 0;
+};
+StiffnessTerms stiffness_terms(const Body& body, std::size_t i);
 
 }  // namespace ckpd

@@ -3,6 +3,7 @@
 #include <exception>
 #include <iostream>
 
+#include "src/cli/check_command.hpp"
 #include "src/cli/patch_test_command.hpp"
 #include "src/cli/run_command.hpp"
 #include "src/scene/case_node.hpp"
@@ -12,6 +13,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   int exit_status = 0;
   ckpd::add_run_command(app, exit_status);
+  ckpd::add_check_command(app);
   ckpd::add_patch_test_command(app);
   try {
     app.parse(argc, argv);

@@ -1,0 +1,117 @@
+#include "src/cli/check_command.hpp"
+
+#include <omp.h>
+
+#include <chrono>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "src/engine/contact_coupling.hpp"
+#include "src/engine/simulation.hpp"
+#include "src/output/run_output.hpp"
+#include "src/scene/case_loader.hpp"
+
+namespace ckpd {
+
+namespace {
+
+struct CheckOptions {
+  std::string case_file;
+  std::vector<std::string> overrides;
+  int steps = 3;
+  int threads = 0;
+};
+
+// Bytes the body's own arrays hold: state and reference vectors, per-point constants, the CSR
+// family and its intact flags. (Kernel scratch adds threads x points x 32 bytes.)
+double body_megabytes(const Body& b) {
+  const double n = static_cast<double>(b.size());
+  const double per_point = 6 * sizeof(Vec3)      // X, u, v, a, b_ext, b
+                           + 8 * sizeof(double)  // volume, beta, dv1-3, k, W, (spare)
+                           + 2 * sizeof(std::uint32_t) + sizeof(std::size_t) + 1;
+  const double per_bond_entry = sizeof(std::uint32_t) + 1;
+  return (n * per_point + static_cast<double>(b.family.bond_entries()) * per_bond_entry) / 1e6;
+}
+
+std::string megabytes_text(double mb) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(1) << mb << " MB";
+  return s.str();
+}
+
+void check(const CheckOptions& opt) {
+  if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  const auto start = std::chrono::steady_clock::now();
+  Scene scene = load_scene(opt.case_file, opt.overrides);
+  Simulation sim(scene);
+  const double setup =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "case " << opt.case_file << ": valid\n";
+  double megabytes = 0;
+  for (const SceneBody& sb : scene.bodies) {
+    const Body& b = sb.body;
+    megabytes += body_megabytes(b);
+    std::cout << "  body '" << b.name << "': " << b.dimension << "D" << (sb.rigid ? ", rigid" : "")
+              << ", " << b.size() << " points, " << b.bond_count() << " bonds, N2 "
+              << b.total_two_neighbour() << ", N3 " << b.total_three_neighbour()
+              << " (ordered), dx " << sb.spacing << " m, horizon " << b.horizon << " m, mass "
+              << b.mass() << (b.dimension == 2 ? " kg/m" : " kg") << ", ~"
+              << megabytes_text(body_megabytes(b)) << " of body data\n";
+  }
+  const StepChoice& s = sim.step_choice();
+  const std::vector<double> contact = contact_stiffness_bounds(scene);
+  std::size_t limiting = 0;
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i)
+    if (scene.bodies[i].body.name == s.limiting_body) limiting = i;
+  const Body& lb = scene.bodies[limiting].body;
+  const StiffnessTerms terms = stiffness_terms(lb, s.limiting_point);
+  const double contact_k = contact.empty() ? 0.0 : contact[limiting];
+  const double largest = std::max({terms.bonds, terms.pairs, terms.triples, contact_k});
+  const char* term = largest == terms.bonds     ? "bonds (one-neighbour)"
+                     : largest == terms.pairs   ? "two-neighbour interactions"
+                     : largest == terms.triples ? "three-neighbour interactions"
+                                                : "contact";
+  std::cout << "stable step: estimate " << s.estimate << " s, limited by body '" << s.limiting_body
+            << "', point " << s.limiting_point << " at (" << s.limiting_position.x() << ", "
+            << s.limiting_position.y() << ", " << s.limiting_position.z()
+            << "); largest term: " << term << " (stiffness bounds: bonds " << terms.bonds
+            << ", pairs " << terms.pairs << ", triples " << terms.triples << ", contact "
+            << contact_k << " N/m^4)\n";
+  std::cout << "time step: " << s.dt << " s (" << s.safety << " x estimate"
+            << (s.user_dt ? ", from the case" : "") << "), " << sim.planned_steps() << " steps\n";
+  std::cout << "memory: ~" << megabytes_text(megabytes) << " of body data; peak RSS after set-up "
+            << megabytes_text(peak_rss_mb()) << "\n";
+
+  const int steps = static_cast<int>(std::min<long long>(opt.steps, sim.planned_steps()));
+  if (steps <= 0) {
+    std::cout << "set-up took " << setup << " s; no steps to time\n";
+    return;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int k = 0; k < steps; ++k) sim.advance(false);
+  const double per_step =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / steps;
+  const double projected = setup + per_step * static_cast<double>(sim.planned_steps());
+  std::cout << "timing: set-up " << setup << " s, " << per_step << " s per step over " << steps
+            << " steps at " << omp_get_max_threads() << " threads; projected run time " << projected
+            << " s (" << projected / 3600 << " h)\n";
+}
+
+}  // namespace
+
+void add_check_command(CLI::App& app) {
+  auto opt = std::make_shared<CheckOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "check", "Validate a case without running it: sizes, memory, stable step, projected time");
+  cmd->add_option("case", opt->case_file, "case file (YAML)")->required();
+  cmd->add_option("--set", opt->overrides, "override a case value: key.path=value (repeatable)");
+  cmd->add_option("--steps", opt->steps, "steps to time for the projection (default 3)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--threads", opt->threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::PositiveNumber);
+  cmd->callback([opt]() { check(*opt); });
+}
+
+}  // namespace ckpd

@@ -1,0 +1,8 @@
+#pragma once
+#include <CLI/CLI.hpp>
+
+namespace ckpd {
+// `ckpd check CASE [--set ...] [--steps N] [--threads N]`: validates a case without running
+// it and reports what a run would cost.
+void add_check_command(CLI::App& app);
+}  // namespace ckpd
