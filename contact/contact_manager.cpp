@@ -22,6 +22,10 @@ struct ContactManager::Target {
 
 namespace {
 
+// Below this much work (points or targets) a parallel region costs more than it saves, and on a
+// shared machine a descheduled thread stalls every barrier.
+constexpr std::size_t kParallelWork = 2048;
+
 Box3 bounding_box(const Body& body) {
   Box3 box{Vec3::Constant(std::numeric_limits<double>::infinity()),
            Vec3::Constant(-std::numeric_limits<double>::infinity())};
@@ -84,7 +88,10 @@ ContactManager::ContactManager(std::vector<ContactBody> bodies, ContactSettings 
   // build, so no two of their points come within l_c while each moves less than its drift limit.
   for (std::size_t b = 0; b < n; ++b) {
     drift_limit_[b] = margin_[b] - 0.5 * widest_radius[b];
-    if (member[b]) members_.push_back(b);
+    if (member[b]) {
+      members_.push_back(b);
+      member_points_ += bodies_[b].body->size();
+    }
   }
   built_displacement_.resize(n);
   if (members_.size() >= 2) broad_ = std::make_unique<BroadPhase>(members_);
@@ -94,7 +101,9 @@ ContactManager::~ContactManager() = default;
 
 bool ContactManager::drifted_beyond_skin() const {
   bool drifted = false;
-#pragma omp parallel for schedule(dynamic) reduction(|| : drifted)
+#pragma omp parallel for schedule(dynamic) \
+    reduction(||                           \
+              : drifted) if (member_points_ > kParallelWork)
   for (std::size_t m = 0; m < members_.size(); ++m) {
     const std::size_t b = members_[m];
     const Body& body = *bodies_[b].body;
@@ -111,7 +120,7 @@ bool ContactManager::drifted_beyond_skin() const {
 
 void ContactManager::rebuild() {
   std::vector<Box3> tight(bodies_.size()), inflated(bodies_.size());
-#pragma omp parallel for schedule(dynamic)
+#pragma omp parallel for schedule(dynamic) if (member_points_ > kParallelWork)
   for (std::size_t m = 0; m < members_.size(); ++m) {
     const std::size_t b = members_[m];
     tight[b] = bounding_box(*bodies_[b].body);
@@ -186,7 +195,7 @@ void ContactManager::add_forces() {
   }
   // Bin both sides of every pair (one side for self-contact) at the current positions.
   const std::size_t sides = 2 * all_pairs_.size();
-#pragma omp parallel for schedule(dynamic)
+#pragma omp parallel for schedule(dynamic) if (targets_.size() > kParallelWork)
   for (std::size_t t = 0; t < sides; ++t) {
     Pair& p = *all_pairs_[t / 2];
     const int s = static_cast<int>(t % 2);
@@ -196,7 +205,7 @@ void ContactManager::add_forces() {
   for (const Pair* p : all_pairs_)
     stats_.points_binned += p->members[0].size() + (p->self ? 0 : p->members[1].size());
 
-#pragma omp parallel for schedule(dynamic, 64)
+#pragma omp parallel for schedule(dynamic, 64) if (targets_.size() > kParallelWork / 4)
   for (std::size_t t = 0; t < targets_.size(); ++t) {
     const Target& target = targets_[t];
     Body& body = *bodies_[target.body].body;

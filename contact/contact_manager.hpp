@@ -65,6 +65,7 @@ class ContactManager {
   std::vector<ContactBody> bodies_;
   ContactSettings settings_;
   std::vector<std::size_t> members_;  // bodies in the broad phase
+  std::size_t member_points_ = 0;     // their points, all together
   std::vector<double> margin_;        // per body: box inflation, half of the widest l_c + skin
   std::vector<double> drift_limit_;   // per body: how far a point may move between builds
   std::unique_ptr<BroadPhase> broad_;

@@ -36,7 +36,8 @@ std::optional<PairLaw> ContactSettings::law(const std::vector<ContactBody>& bodi
   if (!stiffness) return std::nullopt;
   PairLaw law;
   law.stiffness = *stiffness;
-  law.radius = pick(&ContactConstants::radius).value_or(0.5 * std::max(A.spacing, B.spacing));
+  law.radius = pick(&ContactConstants::radius)
+                   .value_or(kDefaultRadiusRatio * std::max(A.spacing, B.spacing));
   law.skin = pick(&ContactConstants::skin).value_or(law.radius);
   if (const auto h = pick(&ContactConstants::horizon)) {
     law.coefficient[0] = law.coefficient[1] = contact_coefficient(law.stiffness, *h);

@@ -19,9 +19,16 @@ struct ContactBody {
   bool prescribed = false;  // its motion is imposed: two such bodies never interact
 };
 
+// The default l_c over the larger lattice spacing of the two bodies. MODEL.md suggests about
+// 1/2, but a point then slips between the four points of a lattice face (dx/sqrt(2) from the
+// face centre) and, in a cubic lattice, down the column of such holes without ever coming
+// within l_c of the body: a ball dropped on a plate whose lattice is offset by half a cell
+// passes through it. Above 1/sqrt(2) the holes are closed.
+inline constexpr double kDefaultRadiusRatio = 0.75;
+
 // Constants that may be given globally or for one pair; a pair's own value wins.
 struct ContactConstants {
-  std::optional<double> radius;     // l_c; default half the larger spacing of the two bodies
+  std::optional<double> radius;     // l_c; default kDefaultRadiusRatio x the larger spacing
   std::optional<double> stiffness;  // Ccon; a pair without one (own or global) has no contact
   std::optional<double> skin;       // default: the radius
   std::optional<double> horizon;    // delta for both sides; default each receiver's own horizon

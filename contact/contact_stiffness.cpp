@@ -56,10 +56,10 @@ std::vector<double> contact_stiffness_bounds(const ContactSettings& settings,
       if (!law) continue;
       const int dim = bodies[a].body->dimension;
       // Point of a feels the partners of b, and the other way round.
-      k[a] = std::max(k[a], 2 * law->coefficient[0] *
+      k[a] = std::max(k[a], kContactResolution * 2 * law->coefficient[0] *
                                 sites_in_ball(law->radius, bodies[b].spacing, dim) *
                                 largest_volume[b]);
-      k[b] = std::max(k[b], 2 * law->coefficient[1] *
+      k[b] = std::max(k[b], kContactResolution * 2 * law->coefficient[1] *
                                 sites_in_ball(law->radius, bodies[a].spacing, dim) *
                                 largest_volume[a]);
     }

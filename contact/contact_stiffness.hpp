@@ -14,6 +14,15 @@
 // (2 l_c/dx + 1)^3 = 8. A point is assumed to touch one other body at a time; a point pressed
 // by two bodies at once is covered by the slack of the row-sum bound (the pair mode that
 // attains it needs all partners moving against i) but not by this argument.
+//
+// Stable is not accurate enough for contact. Bond modes near the bound are barely excited, but
+// every impact excites the contact modes at full amplitude, and velocity Verlet misstates a
+// mode's energy by about 1/(1 - (omega dt/2)^2): measured on two soft spheres whose step
+// contact limits (tests/test_contact_collision.cpp), the bare bound at safety 0.8 gains 10 % of
+// the kinetic energy in one collision, 0.7 of that step 0.3 %, half of it 0.05 %. So the contact
+// term enters the estimate twice over (kContactResolution): at safety 0.8 that is 0.57 of the
+// bare contact step, omega_con dt <= 1.13. Much more would buy little accuracy and hide the
+// instability past the bound that the guard must catch.
 #include <cstddef>
 #include <vector>
 
@@ -28,10 +37,12 @@ namespace ckpd {
 // radius = 4 spacing it returns the packing bound (2 radius/spacing + 1)^dimension.
 std::size_t max_lattice_sites_in_ball(double radius, double spacing, int dimension);
 
-// Per body, the contact stiffness bound k_con (N/m^3 per m, as Body::stiffness_bound) that every
-// one of its points may feel: 2 max over partners J (self included when self-contact is on) of
-// c_{I<-J} N(l_c, dx_J) max_j V^j. Zero for bodies without contact. Throws like
-// ContactSettings::law.
+inline constexpr double kContactResolution = 2;
+
+// Per body, the contact stiffness k_con (N/m^3 per m, as Body::stiffness_bound) that the step
+// estimate adds to every one of its points: kContactResolution x the bound 2 max over partners J
+// (self included when self-contact is on) of c_{I<-J} N(l_c, dx_J) max_j V^j. Zero for bodies
+// without contact. Throws like ContactSettings::law.
 std::vector<double> contact_stiffness_bounds(const ContactSettings& settings,
                                              const std::vector<ContactBody>& bodies);
 

@@ -3,7 +3,8 @@
 //
 //   contact:
 //     stiffness: 1.0e12      # Ccon, Pa; without it only the listed pairs interact
-//     radius: 2.5e-3         # l_c, m (default: half the larger spacing of the two bodies)
+//     radius: 2.5e-3         # l_c, m (default: 0.75 x the larger spacing of the two bodies;
+//                            # below 0.71 x a point can slip between a lattice's surface points)
 //     skin: 1.0e-3           # m, broad-phase skin (default: the radius)
 //     horizon: 0.012         # m, delta of 9 Ccon/(pi delta^5) for both sides (default: each
 //                            # receiving body's own horizon; a rigid body uses its partner's)
