@@ -137,8 +137,7 @@ FailureUpdate fail_overstretched_bonds(Body& body) {
   std::vector<std::uint32_t> points;
   for (std::size_t i = 0; i < n; ++i)
     if (touched[i]) points.push_back(static_cast<std::uint32_t>(i));
-  std::vector<double> before(points.size());
-  double dissipated = 0;
+  std::vector<double> before(points.size()), after(points.size());
 #pragma omp parallel
   {
     FamilyScratch scratch;
@@ -147,12 +146,14 @@ FailureUpdate fail_overstretched_bonds(Body& body) {
       before[p] = evaluate_point(body, points[p], scratch).strain_energy_density();
 #pragma omp single
     result.failed = update_bond_failure(body);
-#pragma omp for schedule(dynamic, 4) reduction(+ : dissipated)
-    for (std::size_t p = 0; p < points.size(); ++p) {
-      const double after = evaluate_point(body, points[p], scratch).strain_energy_density();
-      dissipated += body.volume[points[p]] * (before[p] - after);
-    }
+#pragma omp for schedule(dynamic, 4)
+    for (std::size_t p = 0; p < points.size(); ++p)
+      after[p] = evaluate_point(body, points[p], scratch).strain_energy_density();
   }
+  // Summed in point order, so the result does not depend on the thread schedule.
+  double dissipated = 0;
+  for (std::size_t p = 0; p < points.size(); ++p)
+    dissipated += body.volume[points[p]] * (before[p] - after[p]);
   result.dissipated = dissipated;
   return result;
 }

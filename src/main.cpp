@@ -6,6 +6,7 @@
 #include "src/cli/check_command.hpp"
 #include "src/cli/patch_test_command.hpp"
 #include "src/cli/run_command.hpp"
+#include "src/output/checkpoint.hpp"
 #include "src/scene/case_node.hpp"
 
 int main(int argc, char** argv) {
@@ -20,6 +21,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   } catch (const ckpd::CaseError& e) {
+    std::cerr << "ckpd: error: " << e.what() << '\n';
+    return 2;
+  } catch (const ckpd::CheckpointError& e) {
     std::cerr << "ckpd: error: " << e.what() << '\n';
     return 2;
   } catch (const std::invalid_argument& e) {

@@ -171,7 +171,7 @@ TEST_CASE("field frames read back with every field, and the XDMF matches them", 
       }
       for (std::size_t i = 0; i < points[b]; ++i) strain += energy[i] * 1e-6;  // V = dx^2
       const hid_t group = H5Gopen2(h5, g.c_str(), H5P_DEFAULT);
-      CHECK(read_attribute<int>(group, "dimension", H5T_NATIVE_INT) == 2);
+      CHECK(read_attribute<long long>(group, "dimension", H5T_NATIVE_LLONG) == 2);
       H5Gclose(group);
     }
     CHECK(strain == Approx(strain_by_step.at(step)).epsilon(1e-9));

@@ -3,12 +3,15 @@
 #include <omp.h>
 
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
 
 #include "src/engine/simulation.hpp"
+#include "src/output/beta_report.hpp"
+#include "src/output/checkpoint.hpp"
 #include "src/output/field_writer.hpp"
 #include "src/output/progress.hpp"
 #include "src/output/run_output.hpp"
@@ -22,9 +25,14 @@ struct RunOptions {
   std::string case_file;
   std::string out_dir;
   std::vector<std::string> overrides;
+  std::string restart;
   int threads = 0;
   bool quiet = false;
 };
+
+// Set by SIGINT/SIGTERM: the run finishes its step, writes a checkpoint and stops.
+volatile std::sig_atomic_t stop_requested = 0;
+extern "C" void request_stop(int) { stop_requested = 1; }
 
 void print_setup(const Simulation& sim, std::ostream& os) {
   for (const SceneBody& sb : sim.scene().bodies) {
@@ -35,6 +43,7 @@ void print_setup(const Simulation& sim, std::ostream& os) {
        << " m, C1 " << b.constants.c1 << ", C2 " << b.constants.c2 << ", C3 " << b.constants.c3
        << ", critical stretch " << (b.damage_enabled ? std::to_string(b.critical_stretch) : "none")
        << '\n';
+    if (const std::string note = beta_setup_note(b); !note.empty()) os << note << '\n';
   }
   const StepChoice& s = sim.step_choice();
   os << "time step: estimate " << s.estimate << " s (body '" << s.limiting_body << "', point "
@@ -47,6 +56,8 @@ int run(const RunOptions& opt) {
   const auto start = std::chrono::steady_clock::now();
   Scene scene = load_scene(opt.case_file, opt.overrides);
   Simulation sim(scene);
+  if (!opt.restart.empty()) read_checkpoint(opt.restart, sim);
+  const long long resume = opt.restart.empty() ? -1 : sim.step();
   const double setup_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!opt.quiet) print_setup(sim, std::cout);
@@ -57,7 +68,7 @@ int run(const RunOptions& opt) {
   std::filesystem::create_directories(out, ec);
   if (ec || !std::filesystem::is_directory(out))
     throw std::runtime_error(out + ": cannot create the output directory");
-  HistoryWriter history(out + "/history.csv");
+  HistoryWriter history(out + "/history.csv", resume);
   // Summaries of earlier runs in this folder must not pass for this one's.
   std::filesystem::remove(out + "/summary.json", ec);
 
@@ -66,7 +77,7 @@ int run(const RunOptions& opt) {
                                  ? scene.output.history_interval
                                  : std::max<long long>(1, total / 200);
   std::optional<FieldWriter> fields;
-  if (scene.output.writes_fields()) fields.emplace(out, scene.output.fields);
+  if (scene.output.writes_fields()) fields.emplace(out, scene.output.fields, resume);
   const OutputSettings& o = scene.output;
   const double dt = sim.step_choice().dt;
   // Frame k is written at the first step whose time reaches k * field_time_interval.
@@ -75,18 +86,24 @@ int run(const RunOptions& opt) {
     if (o.field_interval > 0) return step % o.field_interval == 0;
     return time >= static_cast<double>(fields->frames()) * o.field_time_interval - 1e-9 * dt;
   };
-  history.write_row(sim);
-  if (fields) fields->write_frame(sim);
+  if (resume < 0) history.write_row(sim);
+  if (fields && (resume < 0 || fields->frames() == 0)) fields->write_frame(sim);
+  const std::string checkpoint = out + "/checkpoint.h5";
+  stop_requested = 0;
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
   auto seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
   auto summary = [&](const std::string& status, const std::string& message) {
     auto j = make_summary(sim, status, message, seconds());
     j["setup_seconds"] = setup_seconds;
+    const long long stepped = sim.step() - std::max(resume, 0LL);  // by this process
     j["seconds_per_step"] =
-        sim.step() > 0 ? (seconds() - setup_seconds) / static_cast<double>(sim.step()) : 0.0;
+        stepped > 0 ? (seconds() - setup_seconds) / static_cast<double>(stepped) : 0.0;
     j["threads"] = omp_get_max_threads();
     if (fields) j["field_frames"] = fields->frames();
+    if (!opt.restart.empty()) j["restarted_from"] = {{"file", opt.restart}, {"step", resume}};
     return j;
   };
   ProgressReporter progress(!opt.quiet, total);
@@ -100,6 +117,19 @@ int run(const RunOptions& opt) {
       if (row) history.write_row(sim);
       if (frame) fields->write_frame(sim);
       progress.update(sim);
+      const bool interval_checkpoint = scene.output.checkpoint_interval > 0 &&
+                                       sim.step() % scene.output.checkpoint_interval == 0;
+      if (interval_checkpoint || stop_requested) write_checkpoint(checkpoint, sim);
+      if (stop_requested) {
+        progress.finish();
+        if (!row) history.write_row(sim);
+        const std::string message = "interrupted by a signal at step " +
+                                    std::to_string(sim.step()) + "; continue with --restart " +
+                                    checkpoint;
+        write_json(out + "/summary.json", summary("interrupted", message));
+        std::cerr << "ckpd: " << message << '\n';
+        return 130;
+      }
     }
   } catch (const InstabilityError& e) {
     progress.finish();
@@ -128,6 +158,9 @@ void add_run_command(CLI::App& app, int& exit_status) {
   cmd->add_option("--set", opt->overrides, "override a case value: key.path=value (repeatable)");
   cmd->add_option("--threads", opt->threads, "OpenMP threads (default: all cores)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--restart", opt->restart,
+                  "continue from a checkpoint of this case (DIR/checkpoint.h5, written every "
+                  "output.checkpoint_interval steps and on SIGINT/SIGTERM)");
   cmd->add_flag("--quiet", opt->quiet, "print nothing but errors");
   cmd->callback([opt, &exit_status]() { exit_status = run(*opt); });
 }

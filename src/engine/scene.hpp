@@ -36,11 +36,13 @@ struct OutputSettings {
   std::vector<std::string> fields;
   long long field_interval = 0;
   double field_time_interval = 0;
+  long long checkpoint_interval = 0;  // steps between checkpoints; 0: only on SIGINT/SIGTERM
   bool writes_fields() const { return field_interval > 0 || field_time_interval > 0; }
 };
 
 struct Scene {
   std::string case_file;
+  std::string fingerprint;  // of the case's physics (not its time or output settings)
   std::vector<SceneBody> bodies;
   ContactSettings contact;
   TimeSettings time;

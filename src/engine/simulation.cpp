@@ -1,5 +1,7 @@
 #include "src/engine/simulation.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -43,14 +45,24 @@ void apply_prescribed_motion(SceneBody& sb, double t, bool velocity, bool accele
 // for a prescribed one it includes the reaction). Two of these per step make the trapezoidal
 // rule in displacement.
 double half_work_increment(const Body& b, double dt) {
-  double w = 0;
+  // Per-thread partial sums over a static schedule, added in thread order: the total does not
+  // depend on which thread finished first (an OpenMP reduction's combining order may).
+  std::vector<double> partial(static_cast<std::size_t>(omp_get_max_threads()), 0.0);
   const std::size_t n = b.size();
-#pragma omp parallel for schedule(static) reduction(+ : w)
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 f = b.density * b.acceleration[i] - (b.force_density[i] - b.external_force_density[i]);
-    w += 0.5 * b.volume[i] * dt * f.dot(b.velocity[i]);
+#pragma omp parallel
+  {
+    double w = 0;
+#pragma omp for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 f =
+          b.density * b.acceleration[i] - (b.force_density[i] - b.external_force_density[i]);
+      w += 0.5 * b.volume[i] * dt * f.dot(b.velocity[i]);
+    }
+    partial[static_cast<std::size_t>(omp_get_thread_num())] = w;
   }
-  return w;
+  double total = 0;
+  for (double w : partial) total += w;
+  return total;
 }
 
 }  // namespace
@@ -267,6 +279,21 @@ void Simulation::check_energy() const {
         << " x the stable-step estimate";
     throw InstabilityError(msg.str());
   }
+}
+
+Simulation::Counters Simulation::counters() const {
+  return {time_, step_, external_work_, dissipated_, strain_energy_, initial_total_,
+          initially_failed_};
+}
+
+void Simulation::restore(const Counters& c) {
+  time_ = c.time;
+  step_ = c.step;
+  external_work_ = c.external_work;
+  dissipated_ = c.dissipated;
+  strain_energy_ = c.strain_energy;
+  initial_total_ = c.initial_total;
+  initially_failed_ = c.initially_failed;
 }
 
 Energies Simulation::energies() const {

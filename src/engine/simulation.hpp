@@ -65,6 +65,17 @@ class Simulation {
   const Scene& scene() const { return scene_; }
   // Null when the scene has no contact work (contact_coupling.hpp).
   const ContactManager* contact() const { return contact_.get(); }
+  // The run's own counters, for checkpoints: restoring them together with every body's state
+  // continues the run bit for bit.
+  struct Counters {
+    double time = 0;
+    long long step = 0;
+    double external_work = 0, dissipated = 0, strain_energy = 0, initial_total = 0;
+    std::vector<std::size_t> initially_failed;
+  };
+  Counters counters() const;
+  void restore(const Counters& counters);
+  Scene& scene() { return scene_; }
   // Wall time spent in the bodies' own forces (internal and external), for the contact benchmark.
   double body_force_seconds() const { return body_force_seconds_; }
 

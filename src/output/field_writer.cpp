@@ -1,6 +1,5 @@
 #include "src/output/field_writer.hpp"
 
-#include <hdf5.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -11,68 +10,13 @@
 #include <stdexcept>
 
 #include "bodies/damage.hpp"
+#include "src/output/hdf5_io.hpp"
 
 namespace ckpd {
 
 namespace {
 
-// Closes an HDF5 handle when it goes out of scope.
-class Handle {
- public:
-  Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what) : id_(id), close_(close) {
-    if (id_ < 0) throw std::runtime_error("HDF5: cannot " + what);
-  }
-  ~Handle() { close_(id_); }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  operator hid_t() const { return id_; }
-
- private:
-  hid_t id_;
-  herr_t (*close_)(hid_t);
-};
-
-void write_dataset(hid_t group, const std::string& name, const double* data, std::size_t rows,
-                   std::size_t columns) {
-  const hsize_t dims[2] = {rows, columns};
-  Handle space(H5Screate_simple(columns == 1 ? 1 : 2, dims, nullptr), H5Sclose, "make a dataspace");
-  Handle set(
-      H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-      H5Dclose, "create dataset " + name);
-  if (rows > 0 && H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
-    throw std::runtime_error("HDF5: cannot write dataset " + name);
-}
-
-void write_dataset(hid_t group, const std::string& name, const std::vector<std::int32_t>& data) {
-  const hsize_t dims[1] = {data.size()};
-  Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose, "make a dataspace");
-  Handle set(
-      H5Dcreate2(group, name.c_str(), H5T_STD_I32LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-      H5Dclose, "create dataset " + name);
-  if (!data.empty() &&
-      H5Dwrite(set, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
-    throw std::runtime_error("HDF5: cannot write dataset " + name);
-}
-
-template <class T>
-void write_attribute(hid_t object, const std::string& name, hid_t file_type, hid_t memory_type,
-                     const T& value) {
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "make a dataspace");
-  Handle attr(H5Acreate2(object, name.c_str(), file_type, space, H5P_DEFAULT, H5P_DEFAULT),
-              H5Aclose, "create attribute " + name);
-  if (H5Awrite(attr, memory_type, &value) < 0)
-    throw std::runtime_error("HDF5: cannot write attribute " + name);
-}
-
-void write_string_attribute(hid_t object, const std::string& name, const std::string& value) {
-  Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "copy a string type");
-  H5Tset_size(type, std::max<std::size_t>(1, value.size()));
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "make a dataspace");
-  Handle attr(H5Acreate2(object, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
-              "create attribute " + name);
-  if (H5Awrite(attr, type, value.c_str()) < 0)
-    throw std::runtime_error("HDF5: cannot write attribute " + name);
-}
+using hdf5::Handle;
 
 std::string xml_escape(const std::string& s) {
   std::string out;
@@ -111,7 +55,8 @@ const std::vector<std::string>& known_field_names() {
   return names;
 }
 
-FieldWriter::FieldWriter(std::string directory, std::vector<std::string> fields)
+FieldWriter::FieldWriter(std::string directory, std::vector<std::string> fields,
+                         long long resume_after_step)
     : directory_(std::move(directory)) {
   fields_.push_back("position");
   for (const std::string& f : fields) {
@@ -126,11 +71,47 @@ FieldWriter::FieldWriter(std::string directory, std::vector<std::string> fields)
   std::error_code ec;
   std::filesystem::create_directories(directory_ + "/fields", ec);
   if (ec) throw std::runtime_error(directory_ + "/fields: cannot create: " + ec.message());
-  // Frames of an earlier run in this folder must not be mixed with this run's.
+  hdf5::silence_errors();
+  std::vector<std::filesystem::path> existing;
   for (const auto& entry : std::filesystem::directory_iterator(directory_ + "/fields"))
-    if (entry.path().extension() == ".h5") std::filesystem::remove(entry.path(), ec);
+    if (entry.path().extension() == ".h5") existing.push_back(entry.path());
+  std::sort(existing.begin(), existing.end());
+  for (const auto& path : existing) {
+    // A restart keeps the frames of the interrupted run up to its checkpoint, in order; frames
+    // of any other run in this folder must not be mixed with this run's.
+    bool keep = false;
+    if (resume_after_step >= 0 && path.filename() == frame_name(frames_.size())) {
+      try {
+        hdf5::Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose,
+                          "open " + path.string());
+        const long long step = hdf5::read_int64_attribute(file, "step");
+        if (step <= resume_after_step) {
+          Frame frame{"fields/" + path.filename().string(),
+                      hdf5::read_double_attribute(file, "time"), {}};
+          for (long long b = 0;; ++b) {
+            const std::string group = "body_" + std::to_string(b);
+            if (H5Lexists(file, group.c_str(), H5P_DEFAULT) <= 0) break;
+            hdf5::Handle g(H5Gopen2(file, group.c_str(), H5P_DEFAULT), H5Gclose, "open " + group);
+            hdf5::Handle set(H5Dopen2(g, "position", H5P_DEFAULT), H5Dclose, "open position");
+            hdf5::Handle space(H5Dget_space(set), H5Sclose, "read a shape");
+            frame.points.push_back(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space) / 3));
+          }
+          frames_.push_back(std::move(frame));
+          keep = true;
+        }
+      } catch (const std::runtime_error&) {
+        keep = false;  // unreadable: written after the checkpoint, or damaged; rewritten below
+      }
+    }
+    if (!keep) std::filesystem::remove(path, ec);
+  }
   std::filesystem::remove(directory_ + "/fields.xdmf", ec);
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported by exceptions instead
+}
+
+std::string FieldWriter::frame_name(std::size_t index) {
+  std::ostringstream name;
+  name << "frame_" << std::setw(6) << std::setfill('0') << index << ".h5";
+  return name.str();
 }
 
 bool FieldWriter::needs_energy() const {
@@ -138,17 +119,15 @@ bool FieldWriter::needs_energy() const {
 }
 
 void FieldWriter::write_frame(const Simulation& sim) {
-  std::ostringstream name;
-  name << "fields/frame_" << std::setw(6) << std::setfill('0') << frames_.size() << ".h5";
-  const std::string final_path = directory_ + "/" + name.str();
+  const std::string name = "fields/" + frame_name(frames_.size());
+  const std::string final_path = directory_ + "/" + name;
   const std::string temp_path = final_path + ".partial";
-  Frame frame{name.str(), sim.time(), {}};
+  Frame frame{name, sim.time(), {}};
   {
     Handle file(H5Fcreate(temp_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
                 "create " + temp_path);
-    write_attribute(file, "time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, sim.time());
-    const long long step = sim.step();
-    write_attribute(file, "step", H5T_STD_I64LE, H5T_NATIVE_LLONG, step);
+    hdf5::write_double_attribute(file, "time", sim.time());
+    hdf5::write_int64_attribute(file, "step", sim.step());
     const auto& bodies = sim.scene().bodies;
     std::vector<double> buffer;
     for (std::size_t b = 0; b < bodies.size(); ++b) {
@@ -158,9 +137,8 @@ void FieldWriter::write_frame(const Simulation& sim) {
       Handle group(H5Gcreate2(file, ("body_" + std::to_string(b)).c_str(), H5P_DEFAULT, H5P_DEFAULT,
                               H5P_DEFAULT),
                    H5Gclose, "create a body group");
-      write_string_attribute(group, "name", body.name);
-      const int dimension = body.dimension;
-      write_attribute(group, "dimension", H5T_STD_I32LE, H5T_NATIVE_INT, dimension);
+      hdf5::write_string_attribute(group, "name", body.name);
+      hdf5::write_int64_attribute(group, "dimension", body.dimension);
       for (const std::string& f : fields_) {
         if (is_vector_field(f)) {
           const std::vector<Vec3>* v = f == "displacement"    ? &body.displacement
@@ -174,14 +152,14 @@ void FieldWriter::write_frame(const Simulation& sim) {
             buffer[3 * i + 1] = x.y();
             buffer[3 * i + 2] = x.z();
           }
-          write_dataset(group, f, buffer.data(), n, 3);
+          hdf5::write_doubles(group, f, buffer.data(), n, 3);
         } else if (f == "damage") {
           point_damage(body, buffer);
-          write_dataset(group, f, buffer.data(), n, 1);
+          hdf5::write_doubles(group, f, buffer.data(), n, 1);
         } else if (f == "strain_energy_density") {
-          write_dataset(group, f, body.strain_energy_density.data(), n, 1);
+          hdf5::write_doubles(group, f, body.strain_energy_density.data(), n, 1);
         } else if (f == "body_id") {
-          write_dataset(group, f, std::vector<std::int32_t>(n, static_cast<std::int32_t>(b)));
+          hdf5::write_int32(group, f, std::vector<std::int32_t>(n, static_cast<std::int32_t>(b)));
         }
       }
     }

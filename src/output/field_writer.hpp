@@ -19,7 +19,10 @@ class FieldWriter {
   // `fields`: names from known_field_names() (position is always written: ParaView needs it).
   // Throws std::invalid_argument for an unknown name, std::runtime_error when `directory`
   // cannot be written.
-  FieldWriter(std::string directory, std::vector<std::string> fields);
+  // With `resume_after_step` >= 0 (a restart), frames already in the directory up to that step
+  // are kept and numbering continues after them; otherwise earlier frames are removed.
+  FieldWriter(std::string directory, std::vector<std::string> fields,
+              long long resume_after_step = -1);
 
   // Writes the current state as the next frame.
   void write_frame(const Simulation& sim);
@@ -35,6 +38,7 @@ class FieldWriter {
     std::vector<std::size_t> points;  // per body
   };
   void write_xdmf(const Simulation& sim) const;
+  static std::string frame_name(std::size_t index);
 
   std::string directory_;
   std::vector<std::string> fields_;

@@ -9,13 +9,31 @@
 #include "bodies/fragments.hpp"
 #include "src/output/contact_summary.hpp"
 #include <stdexcept>
+#include <vector>
 
 namespace ckpd {
 
-HistoryWriter::HistoryWriter(const std::string& path) : out_(path), path_(path) {
+HistoryWriter::HistoryWriter(const std::string& path, long long resume_after_step) : path_(path) {
+  const char* header =
+      "step,time,kinetic,strain,contact,external_work,dissipated,balance_error,broken_bonds,"
+      "max_damage";
+  std::vector<std::string> kept;
+  if (resume_after_step >= 0) {
+    std::ifstream in(path);
+    std::string line;
+    if (std::getline(in, line) && line == header) {
+      while (std::getline(in, line)) {
+        const auto comma = line.find(',');
+        if (comma == std::string::npos) break;  // a cut-off last line
+        const long long step = std::stoll(line.substr(0, comma));
+        if (step <= resume_after_step) kept.push_back(line);
+      }
+    }
+  }
+  out_.open(path, std::ios::trunc);
   if (!out_) throw std::runtime_error(path + ": cannot write the history file");
-  out_ << "step,time,kinetic,strain,contact,external_work,dissipated,balance_error,broken_bonds,"
-          "max_damage\n";
+  out_ << header << '\n';
+  for (const std::string& line : kept) out_ << line << '\n';
   out_.flush();
 }
 

@@ -11,8 +11,10 @@ namespace ckpd {
 
 class HistoryWriter {
  public:
-  // Throws std::runtime_error naming the path when it cannot be written.
-  explicit HistoryWriter(const std::string& path);
+  // Throws std::runtime_error naming the path when it cannot be written. With
+  // `resume_after_step` >= 0 (a restart) an existing history keeps its rows up to that step and
+  // is continued; otherwise it starts anew.
+  explicit HistoryWriter(const std::string& path, long long resume_after_step = -1);
   void write_row(const Simulation& sim);
 
  private:

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <map>
 #include <sstream>
 
@@ -228,12 +229,33 @@ TimeSettings read_time(const CaseNode& t) {
   return s;
 }
 
+// Hash of everything but `time`, `output` and `description`: a checkpoint can be continued
+// with a later end time or other output, but not with other physics.
+std::string physics_fingerprint(const YAML::Node& root) {
+  YAML::Node physics;
+  for (const auto& kv : root) {
+    const std::string key = kv.first.as<std::string>();
+    if (key != "time" && key != "output" && key != "description") physics[key] = kv.second;
+  }
+  const std::string text = YAML::Dump(physics);
+  std::uint64_t h = 1469598103934665603ull;  // FNV-1a
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  std::ostringstream hex;
+  hex << std::hex << std::setw(16) << std::setfill('0') << h;
+  return hex.str();
+}
+
 }  // namespace
 
 Scene load_scene(const std::string& case_file, const std::vector<std::string>& overrides) {
-  const CaseNode root(load_case_yaml(case_file, overrides), case_file);
+  const YAML::Node resolved = load_case_yaml(case_file, overrides);
+  const CaseNode root(resolved, case_file);
   Scene scene;
   scene.case_file = case_file;
+  scene.fingerprint = physics_fingerprint(resolved);
   if (auto d = root.optional("description")) d->as_string();
   const auto materials = read_materials(root);
   const CaseNode bodies = root.required("bodies");
@@ -251,6 +273,10 @@ Scene load_scene(const std::string& case_file, const std::vector<std::string>& o
     if (auto h = o->optional("history_interval")) {
       scene.output.history_interval = h->as_integer();
       if (scene.output.history_interval <= 0) h->fail("a positive number of steps");
+    }
+    if (auto c = o->optional("checkpoint_interval")) {
+      scene.output.checkpoint_interval = c->as_integer();
+      if (scene.output.checkpoint_interval <= 0) c->fail("a positive number of steps");
     }
     const auto steps = o->optional("field_interval");
     const auto seconds = o->optional("field_time_interval");

@@ -1,0 +1,115 @@
+#include "src/output/checkpoint.hpp"
+
+#include <filesystem>
+
+#include "src/output/hdf5_io.hpp"
+
+namespace ckpd {
+
+namespace {
+
+constexpr const char* kFormat = "ckpd checkpoint 1";
+using hdf5::Handle;
+
+}  // namespace
+
+void write_checkpoint(const std::string& path, const Simulation& sim) {
+  hdf5::silence_errors();
+  const std::string temp = path + ".partial";
+  {
+    Handle file(H5Fcreate(temp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
+                "create " + temp);
+    const Simulation::Counters c = sim.counters();
+    hdf5::write_string_attribute(file, "format", kFormat);
+    hdf5::write_string_attribute(file, "case_fingerprint", sim.scene().fingerprint);
+    hdf5::write_double_attribute(file, "dt", sim.step_choice().dt);
+    hdf5::write_double_attribute(file, "time", c.time);
+    hdf5::write_int64_attribute(file, "step", c.step);
+    hdf5::write_double_attribute(file, "external_work", c.external_work);
+    hdf5::write_double_attribute(file, "dissipated", c.dissipated);
+    hdf5::write_double_attribute(file, "strain_energy", c.strain_energy);
+    hdf5::write_double_attribute(file, "initial_total", c.initial_total);
+    hdf5::write_int64_attribute(file, "bodies", static_cast<long long>(sim.scene().bodies.size()));
+    for (std::size_t b = 0; b < sim.scene().bodies.size(); ++b) {
+      const Body& body = sim.scene().bodies[b].body;
+      Handle group(H5Gcreate2(file, ("body_" + std::to_string(b)).c_str(), H5P_DEFAULT, H5P_DEFAULT,
+                              H5P_DEFAULT),
+                   H5Gclose, "create a body group");
+      hdf5::write_string_attribute(group, "name", body.name);
+      hdf5::write_int64_attribute(group, "points", static_cast<long long>(body.size()));
+      hdf5::write_int64_attribute(group, "initially_failed",
+                                  static_cast<long long>(c.initially_failed[b]));
+      hdf5::write_vectors(group, "displacement", body.displacement);
+      hdf5::write_vectors(group, "velocity", body.velocity);
+      hdf5::write_vectors(group, "acceleration", body.acceleration);
+      hdf5::write_vectors(group, "force_density", body.force_density);
+      hdf5::write_vectors(group, "external_force_density", body.external_force_density);
+      hdf5::write_doubles(group, "strain_energy_density", body.strain_energy_density.data(),
+                          body.size(), 1);
+      hdf5::write_bytes(group, "bond_intact", body.bond_intact);
+    }
+    if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0)
+      throw std::runtime_error("HDF5: cannot flush " + temp);
+  }
+  std::error_code ec;
+  std::filesystem::rename(temp, path, ec);
+  if (ec) throw std::runtime_error(path + ": cannot write the checkpoint: " + ec.message());
+}
+
+void read_checkpoint(const std::string& path, Simulation& sim) {
+  hdf5::silence_errors();
+  if (!std::filesystem::is_regular_file(path))
+    throw CheckpointError(path + ": checkpoint not found");
+  if (H5Fis_hdf5(path.c_str()) <= 0)
+    throw CheckpointError(path + ": not an HDF5 file (corrupted, or not a ckpd checkpoint)");
+  try {
+    Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "open " + path);
+    if (hdf5::read_string_attribute(file, "format") != kFormat)
+      throw CheckpointError(path + ": not a ckpd checkpoint of a known format");
+    if (hdf5::read_string_attribute(file, "case_fingerprint") != sim.scene().fingerprint)
+      throw CheckpointError(path +
+                            ": written by another case (its materials, bodies, "
+                            "conditions or contact differ from this one's)");
+    const double dt = hdf5::read_double_attribute(file, "dt");
+    if (dt != sim.step_choice().dt)
+      throw CheckpointError(path + ": written with dt = " + std::to_string(dt) +
+                            " s, this case gives " + std::to_string(sim.step_choice().dt) +
+                            " s (a restart must keep the time step)");
+    Scene& scene = sim.scene();
+    if (hdf5::read_int64_attribute(file, "bodies") != static_cast<long long>(scene.bodies.size()))
+      throw CheckpointError(path + ": holds another number of bodies");
+    Simulation::Counters c;
+    c.time = hdf5::read_double_attribute(file, "time");
+    c.step = hdf5::read_int64_attribute(file, "step");
+    c.external_work = hdf5::read_double_attribute(file, "external_work");
+    c.dissipated = hdf5::read_double_attribute(file, "dissipated");
+    c.strain_energy = hdf5::read_double_attribute(file, "strain_energy");
+    c.initial_total = hdf5::read_double_attribute(file, "initial_total");
+    for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
+      Body& body = scene.bodies[b].body;
+      Handle group(H5Gopen2(file, ("body_" + std::to_string(b)).c_str(), H5P_DEFAULT), H5Gclose,
+                   "open body group " + std::to_string(b));
+      if (hdf5::read_string_attribute(group, "name") != body.name ||
+          hdf5::read_int64_attribute(group, "points") != static_cast<long long>(body.size()))
+        throw CheckpointError(path + ": body " + std::to_string(b) + " does not match '" +
+                              body.name + "'");
+      c.initially_failed.push_back(
+          static_cast<std::size_t>(hdf5::read_int64_attribute(group, "initially_failed")));
+      const std::size_t n = body.size();
+      body.displacement = hdf5::read_vectors(group, "displacement", n);
+      body.velocity = hdf5::read_vectors(group, "velocity", n);
+      body.acceleration = hdf5::read_vectors(group, "acceleration", n);
+      body.force_density = hdf5::read_vectors(group, "force_density", n);
+      body.external_force_density = hdf5::read_vectors(group, "external_force_density", n);
+      body.strain_energy_density = hdf5::read_doubles(group, "strain_energy_density", n);
+      body.bond_intact = hdf5::read_bytes(group, "bond_intact", body.bond_intact.size());
+    }
+    sim.restore(c);
+  } catch (const CheckpointError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw CheckpointError(path + ": unreadable checkpoint (" + e.what() + ")");
+  }
+}
+
+}  // namespace ckpd

@@ -1,0 +1,26 @@
+#pragma once
+// Checkpoints: the full state of a run in one HDF5 file, enough to continue it bit for bit:
+// the run's counters, and per body displacement, velocity, acceleration, force densities,
+// strain-energy density and the intact flag of every bond (a restart that restored only
+// positions and velocities would heal the cracks). Written under a temporary name and renamed,
+// so a checkpoint on disk is always complete.
+#include <stdexcept>
+#include <string>
+
+#include "src/engine/simulation.hpp"
+
+namespace ckpd {
+
+// A checkpoint that cannot be used: unreadable, corrupted, or from another case.
+class CheckpointError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+void write_checkpoint(const std::string& path, const Simulation& sim);
+
+// Overwrites the state of `sim` (built from the same case) with the checkpoint's. Throws
+// CheckpointError naming the file and what does not match.
+void read_checkpoint(const std::string& path, Simulation& sim);
+
+}  // namespace ckpd

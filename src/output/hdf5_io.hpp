@@ -1,0 +1,48 @@
+#pragma once
+// Small RAII and read/write helpers over the HDF5 C API, shared by field frames and
+// checkpoints. Every failure throws std::runtime_error naming what could not be done.
+#include <hdf5.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bodies/vec.hpp"
+
+namespace ckpd::hdf5 {
+
+// Closes an HDF5 handle when it goes out of scope; a negative id is an error.
+class Handle {
+ public:
+  Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what);
+  ~Handle() { close_(id_); }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  operator hid_t() const { return id_; }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
+// HDF5's own error printing off: errors come back as exceptions.
+void silence_errors();
+
+void write_doubles(hid_t group, const std::string& name, const double* data, std::size_t rows,
+                   std::size_t columns);
+void write_vectors(hid_t group, const std::string& name, const std::vector<Vec3>& data);
+void write_int32(hid_t group, const std::string& name, const std::vector<std::int32_t>& data);
+void write_bytes(hid_t group, const std::string& name, const std::vector<std::uint8_t>& data);
+void write_double_attribute(hid_t object, const std::string& name, double value);
+void write_int64_attribute(hid_t object, const std::string& name, long long value);
+void write_string_attribute(hid_t object, const std::string& name, const std::string& value);
+
+// Readers check the stored size against `expected` elements (rows x columns).
+std::vector<double> read_doubles(hid_t group, const std::string& name, std::size_t expected);
+std::vector<Vec3> read_vectors(hid_t group, const std::string& name, std::size_t expected);
+std::vector<std::uint8_t> read_bytes(hid_t group, const std::string& name, std::size_t expected);
+double read_double_attribute(hid_t object, const std::string& name);
+long long read_int64_attribute(hid_t object, const std::string& name);
+std::string read_string_attribute(hid_t object, const std::string& name);
+
+}  // namespace ckpd::hdf5
