@@ -49,6 +49,19 @@ class RigidMotion {
   // books only the external loads: the internal forces that keep a rigid body rigid do no work.
   void set_accelerations(Body& body, double t) const;
 
+  // The motion's state between steps, for checkpoints.
+  struct State {
+    Vec3 centre, velocity, angular_momentum;
+    Eigen::Quaterniond orientation;
+  };
+  State state() const { return {centre_, velocity_, angular_momentum_, orientation_}; }
+  void restore(const State& s) {
+    centre_ = s.centre;
+    velocity_ = s.velocity;
+    angular_momentum_ = s.angular_momentum;
+    orientation_ = s.orientation;
+  }
+
  private:
   Vec3 force(const Body& body) const;
   Vec3 torque(const Body& body) const;

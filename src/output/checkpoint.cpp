@@ -47,6 +47,17 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
       hdf5::write_doubles(group, "strain_energy_density", body.strain_energy_density.data(),
                           body.size(), 1);
       hdf5::write_bytes(group, "bond_intact", body.bond_intact);
+      if (const auto& rigid = sim.scene().bodies[b].rigid) {
+        const RigidMotion::State r = rigid->state();
+        const double packed[13] = {r.centre.x(),           r.centre.y(),
+                                   r.centre.z(),           r.velocity.x(),
+                                   r.velocity.y(),         r.velocity.z(),
+                                   r.angular_momentum.x(), r.angular_momentum.y(),
+                                   r.angular_momentum.z(), r.orientation.w(),
+                                   r.orientation.x(),      r.orientation.y(),
+                                   r.orientation.z()};
+        hdf5::write_doubles(group, "rigid_state", packed, 13, 1);
+      }
     }
     if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0)
       throw std::runtime_error("HDF5: cannot flush " + temp);
@@ -103,6 +114,12 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
       body.external_force_density = hdf5::read_vectors(group, "external_force_density", n);
       body.strain_energy_density = hdf5::read_doubles(group, "strain_energy_density", n);
       body.bond_intact = hdf5::read_bytes(group, "bond_intact", body.bond_intact.size());
+      if (auto& rigid = scene.bodies[b].rigid) {
+        // centre, velocity, angular momentum, orientation quaternion (w, x, y, z)
+        const std::vector<double> p = hdf5::read_doubles(group, "rigid_state", 13);
+        rigid->restore({Vec3(p[0], p[1], p[2]), Vec3(p[3], p[4], p[5]), Vec3(p[6], p[7], p[8]),
+                        Eigen::Quaterniond(p[9], p[10], p[11], p[12])});
+      }
     }
     sim.restore(c);
   } catch (const CheckpointError&) {
