@@ -205,40 +205,60 @@ void ContactManager::add_forces() {
   for (const Pair* p : all_pairs_)
     stats_.points_binned += p->members[0].size() + (p->self ? 0 : p->members[1].size());
 
-#pragma omp parallel for schedule(dynamic, 64) if (targets_.size() > kParallelWork / 4)
-  for (std::size_t t = 0; t < targets_.size(); ++t) {
-    const Target& target = targets_[t];
-    Body& body = *bodies_[target.body].body;
-    const std::uint32_t i = target.point;
-    const Vec3 xi = body.current_position(i);
-    const double vi = body.volume[i];
-    Vec3 force = Vec3::Zero();
-    double energy = 0;
-    std::uint32_t contacts = 0, tests = 0;
-    for (std::uint32_t r = target.ref_begin; r < target.ref_end; ++r) {
-      const Pair& p = *all_pairs_[target_refs_[r] / 2];
-      const int side = static_cast<int>(target_refs_[r] % 2);
-      const PointGrid& partners = p.grid[p.self ? 0 : 1 - side];
-      const double lc = p.law.radius, c = p.law.coefficient[side];
-      // Each point pair is met from both ends; each end books half its energy.
-      const double quarter_mean = 0.25 * p.law.mean_coefficient();
-      partners.for_each_near(xi, [&](std::uint32_t j, const Vec3& xj, double vj) {
-        if (p.self && (j == i || intact_bond(body, i, j))) return;
-        ++tests;
-        const Vec3 d = xi - xj;
-        const double r2 = d.squaredNorm();
-        if (r2 >= lc * lc || r2 == 0) return;
-        const double r = std::sqrt(r2), gap = lc - r;
-        const double volumes = vi * vj;
-        force += (c * gap / r * volumes) * d;
-        energy += quarter_mean * volumes * gap * gap;
-        ++contacts;
-      });
+    // Each point sums its partners in (body, point) order, whatever the cell lists look like, so a
+    // point's force does not depend on which points the last rebuild kept (a run restarted from
+    // a checkpoint rebuilds at once and must continue bit for bit).
+#pragma omp parallel if (targets_.size() > kParallelWork / 4)
+  {
+    struct Contribution {
+      std::uint32_t body, point;
+      Vec3 force;
+      double energy;
+      bool operator<(const Contribution& o) const {
+        return body != o.body ? body < o.body : point < o.point;
+      }
+    };
+    std::vector<Contribution> found;
+#pragma omp for schedule(dynamic, 64)
+    for (std::size_t t = 0; t < targets_.size(); ++t) {
+      const Target& target = targets_[t];
+      Body& body = *bodies_[target.body].body;
+      const std::uint32_t i = target.point;
+      const Vec3 xi = body.current_position(i);
+      const double vi = body.volume[i];
+      std::uint32_t tests = 0;
+      found.clear();
+      for (std::uint32_t r = target.ref_begin; r < target.ref_end; ++r) {
+        const Pair& p = *all_pairs_[target_refs_[r] / 2];
+        const int side = static_cast<int>(target_refs_[r] % 2);
+        const int other = p.self ? 0 : 1 - side;
+        const double lc = p.law.radius, c = p.law.coefficient[side];
+        // Each point pair is met from both ends; each end books half its energy.
+        const double quarter_mean = 0.25 * p.law.mean_coefficient();
+        p.grid[other].for_each_near(xi, [&](std::uint32_t j, const Vec3& xj, double vj) {
+          if (p.self && (j == i || intact_bond(body, i, j))) return;
+          ++tests;
+          const Vec3 d = xi - xj;
+          const double r2 = d.squaredNorm();
+          if (r2 >= lc * lc || r2 == 0) return;
+          const double r = std::sqrt(r2), gap = lc - r;
+          const double volumes = vi * vj;
+          found.push_back(
+              {p.body[other], j, (c * gap / r * volumes) * d, quarter_mean * volumes * gap * gap});
+        });
+      }
+      std::sort(found.begin(), found.end());
+      Vec3 force = Vec3::Zero();
+      double energy = 0;
+      for (const Contribution& f : found) {
+        force += f.force;
+        energy += f.energy;
+      }
+      body.force_density[i] += force / vi;
+      target_energy_[t] = energy;
+      target_contacts_[t] = static_cast<std::uint32_t>(found.size());
+      target_tests_[t] = tests;
     }
-    body.force_density[i] += force / vi;
-    target_energy_[t] = energy;
-    target_contacts_[t] = contacts;
-    target_tests_[t] = tests;
   }
   // Serial sums: the same total on every thread count.
   energy_ = 0;
