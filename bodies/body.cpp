@@ -35,6 +35,8 @@ void check_definition(const BodyDefinition& d) {
     msg << who << "full family volume must be positive";
   } else if (!d.no_failure.empty() && d.no_failure.size() != d.reference_position.size()) {
     msg << who << "needs one no-failure flag per point";
+  } else if (!(d.degenerate_fraction > 0 && d.degenerate_fraction < 1)) {
+    msg << who << "degenerate fraction must be in (0, 1), got " << d.degenerate_fraction;
   } else if (!(d.critical_stretch > 0)) {
     msg << who << "critical stretch must be positive, got " << d.critical_stretch;
   } else if (d.dimension == 2 && d.constants.c3 != 0) {
@@ -68,7 +70,7 @@ struct PointCensus {
   Mat3 q1 = Mat3::Zero(), q2 = Mat3::Zero(), q3 = Mat3::Zero();  // per unit C dV
 };
 
-PointCensus census_point(const FamilyScratch& s, bool pairs, bool triples) {
+PointCensus census_point(const FamilyScratch& s, bool pairs, bool triples, double degenerate) {
   PointCensus c;
   for (std::size_t a = 0; a < s.size(); ++a) {
     const Vec3 n = s.ref[a] / s.length[a];
@@ -79,7 +81,7 @@ PointCensus census_point(const FamilyScratch& s, bool pairs, bool triples) {
       const Vec3 p = s.ref[a], q = s.ref[b];
       const Vec3 area = p.cross(q);
       const double A = area.norm();
-      if (A <= kDegenerateFraction * s.length[a] * s.length[b]) return;
+      if (A <= degenerate * s.length[a] * s.length[b]) return;
       c.n2 += 2;
       const Vec3 unit = area / A;
       const Vec3 gi = (p - q).cross(unit), gj = q.cross(unit), gk = unit.cross(p);
@@ -91,7 +93,7 @@ PointCensus census_point(const FamilyScratch& s, bool pairs, bool triples) {
       const Vec3 p = s.ref[a], q = s.ref[b], r = s.ref[d];
       const Vec3 hj = q.cross(r), hk = r.cross(p), hl = p.cross(q);
       const double V = std::abs(p.dot(hj));
-      if (V <= kDegenerateFraction * s.length[a] * s.length[b] * s.length[d]) return;
+      if (V <= degenerate * s.length[a] * s.length[b] * s.length[d]) return;
       c.n3 += 6;
       const Vec3 hi = -(hj + hk + hl);
       add_bound(c.q3, 6.0 / V, hi, hi.norm() + hj.norm() + hk.norm() + hl.norm());
@@ -159,6 +161,7 @@ Body make_body(BodyDefinition def) {
   body.constants = def.constants;
   body.critical_stretch = def.critical_stretch;
   body.damage_enabled = std::isfinite(def.critical_stretch);
+  body.degenerate_fraction = def.degenerate_fraction;
   body.reference_position = std::move(def.reference_position);
   body.volume = std::move(def.volume);
   body.no_failure = std::move(def.no_failure);
@@ -221,7 +224,7 @@ Body make_body(BodyDefinition def) {
 #pragma omp for schedule(dynamic, 1)
     for (std::size_t g = 0; g < representative.size(); ++g) {
       scratch.load(body, representative[g], false, pairs || triples);
-      census[g] = census_point(scratch, pairs, triples);
+      census[g] = census_point(scratch, pairs, triples, body.degenerate_fraction);
     }
   }
 
@@ -283,7 +286,8 @@ Body make_body(BodyDefinition def) {
 StiffnessTerms stiffness_terms(const Body& body, std::size_t i) {
   FamilyScratch scratch;
   scratch.load(body, i, false, body.has_pairs() || body.has_triples());
-  const PointCensus c = census_point(scratch, body.has_pairs(), body.has_triples());
+  const PointCensus c =
+      census_point(scratch, body.has_pairs(), body.has_triples(), body.degenerate_fraction);
   auto largest = [](const Mat3& m) {
     return Eigen::SelfAdjointEigenSolver<Mat3>(m, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
   };

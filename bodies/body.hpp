@@ -13,6 +13,11 @@
 
 namespace ckpd {
 
+// Below this fraction of the product of its edge lengths from the centre point, a triangle's
+// area or a tetrahedron's volume counts as degenerate (MODEL.md section 1); a body may raise it
+// (BodyDefinition::degenerate_fraction).
+inline constexpr double kDegenerateFraction = 1e-10;
+
 // Bonds whose reference segment crosses this surface start failed (MODEL.md section 4).
 // Two corners: a segment in the z = 0 plane (2D bodies). Three or more: a planar convex polygon
 // (3D bodies). A bond is cut when its end points lie strictly on opposite sides of the line or
@@ -39,6 +44,12 @@ struct BodyDefinition {
   // 1 there. Irregular point clouds need it: with locally varying spacing a point's family can
   // hold more volume than the lattice reference, although its neighbourhood is simply full.
   bool cap_beta = false;
+  // Two- and three-neighbour sets whose |A| / (L L) or |V| / (L L L) seen from the centre is at
+  // most this are degenerate: left out, not counted. Lattices need only the default (their
+  // non-degenerate sets are far above it); a smoothly distorted lattice, such as a point cloud
+  // along a curve, turns the lattice's collinear and coplanar sets into slivers whose stiffness
+  // (~ 1/size) throttles the stable step, and a larger value leaves them out as the lattice does.
+  double degenerate_fraction = kDegenerateFraction;
   std::vector<std::uint8_t> no_failure;  // empty, or one flag per point: its bonds never fail
   std::vector<Precrack> precracks;
 };
@@ -52,6 +63,7 @@ struct Body {
   InteractionConstants constants;
   double critical_stretch = std::numeric_limits<double>::infinity();
   bool damage_enabled = false;
+  double degenerate_fraction = kDegenerateFraction;  // BodyDefinition::degenerate_fraction
 
   // Reference data per point, fixed for the run.
   std::vector<Vec3> reference_position;

@@ -11,9 +11,6 @@
 
 namespace ckpd {
 
-// Below these fractions of the product of edge lengths an area or volume counts as degenerate.
-inline constexpr double kDegenerateFraction = 1e-10;
-
 class FamilyScratch {
  public:
   // Loads point i's family: reference offsets dX, current offsets dx = dX + (u_j - u_i)

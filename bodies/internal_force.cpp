@@ -9,6 +9,7 @@ PointResult evaluate_point(const Body& body, std::size_t i, FamilyScratch& s) {
   s.load(body, i, body.damage_enabled, pairs || triples);
   const double c1 = body.constants.c1, c2 = body.constants.c2, c3 = body.constants.c3;
   const double dv1 = body.dv1[i], dv2 = body.dv2[i], dv3 = body.dv3[i];
+  const double degenerate = body.degenerate_fraction;
   PointResult r;
   Vec3 b = Vec3::Zero();
   double w1 = 0, w2 = 0, w3 = 0;
@@ -23,7 +24,7 @@ PointResult evaluate_point(const Body& body, std::size_t i, FamilyScratch& s) {
   if (pairs) {
     s.for_each_pair([&](std::size_t a, std::size_t c) {
       const double A = s.ref[a].cross(s.ref[c]).norm();
-      if (A <= kDegenerateFraction * s.length[a] * s.length[c]) return;
+      if (A <= degenerate * s.length[a] * s.length[c]) return;
       const Vec3 p = s.cur[a], q = s.cur[c];
       const Vec3 area = p.cross(q);
       const double an = area.norm();
@@ -39,7 +40,7 @@ PointResult evaluate_point(const Body& body, std::size_t i, FamilyScratch& s) {
     s.for_each_triple([&](std::size_t a, std::size_t c, std::size_t d) {
       const Vec3 P = s.ref[a], Q = s.ref[c], R = s.ref[d];
       const double V = std::abs(P.dot(Q.cross(R)));
-      if (V <= kDegenerateFraction * s.length[a] * s.length[c] * s.length[d]) return;
+      if (V <= degenerate * s.length[a] * s.length[c] * s.length[d]) return;
       const Vec3 p = s.cur[a], q = s.cur[c], r = s.cur[d];
       const Vec3 qr = q.cross(r), rp = r.cross(p), pq = p.cross(q);
       const double v = p.dot(qr), av = std::abs(v);

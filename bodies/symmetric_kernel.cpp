@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "bodies/family_scratch.hpp"  // kDegenerateFraction, shared with the reference
+#include "bodies/family_scratch.hpp"
 
 namespace ckpd {
 
@@ -87,6 +87,7 @@ struct Context {
   const std::uint8_t* intact = nullptr;
   bool pairs = false, triples = false;
   double c1 = 0, c2 = 0, c3 = 0;
+  double degenerate = kDegenerateFraction;  // the body's degenerate_fraction
   // |A| > hi2 (|V| > hi3): non-degenerate for every vertex; < lo2 (lo3): degenerate for every
   // vertex; otherwise ask each vertex.
   double hi2 = 0, lo2 = 0, hi3 = 0, lo3 = 0;
@@ -112,19 +113,20 @@ inline double sign(double v) {
 // The reference's decisions, reproduced operation for operation (FamilyScratch::load offsets
 // X^o - X^c, census_point / evaluate_point products), for vertex c and the other vertices of the
 // set in increasing index order, which is the order of c's family slots.
-bool triangle_seen(const Vec3* X, std::uint32_t c, std::uint32_t o1, std::uint32_t o2) {
+bool triangle_seen(const Vec3* X, double degenerate, std::uint32_t c, std::uint32_t o1,
+                   std::uint32_t o2) {
   const Vec3 Xc = X[c];
   const Vec3 P = X[o1] - Xc, Q = X[o2] - Xc;
   const double A = P.cross(Q).norm();
-  return A > kDegenerateFraction * P.norm() * Q.norm();
+  return A > degenerate * P.norm() * Q.norm();
 }
 
-bool tetrahedron_seen(const Vec3* X, std::uint32_t c, std::uint32_t o1, std::uint32_t o2,
-                      std::uint32_t o3) {
+bool tetrahedron_seen(const Vec3* X, double degenerate, std::uint32_t c, std::uint32_t o1,
+                      std::uint32_t o2, std::uint32_t o3) {
   const Vec3 Xc = X[c];
   const Vec3 P = X[o1] - Xc, Q = X[o2] - Xc, R = X[o3] - Xc;
   const double V = std::abs(P.dot(Q.cross(R)));
-  return V > kDegenerateFraction * P.norm() * Q.norm() * R.norm();
+  return V > degenerate * P.norm() * Q.norm() * R.norm();
 }
 
 // Bit v set: vertex v (0 = i, 1 = j, 2 = k, 3 = l, indices increasing) counts the set as
@@ -133,16 +135,19 @@ unsigned triangle_mask(const Context& ctx, double area, std::uint32_t i, std::ui
                        std::uint32_t k) {
   if (area > ctx.hi2) return 7;
   if (area < ctx.lo2) return 0;
-  return unsigned(triangle_seen(ctx.X, i, j, k)) | unsigned(triangle_seen(ctx.X, j, i, k)) << 1 |
-         unsigned(triangle_seen(ctx.X, k, i, j)) << 2;
+  const double f = ctx.degenerate;
+  return unsigned(triangle_seen(ctx.X, f, i, j, k)) |
+         unsigned(triangle_seen(ctx.X, f, j, i, k)) << 1 |
+         unsigned(triangle_seen(ctx.X, f, k, i, j)) << 2;
 }
 
 unsigned tetrahedron_mask_exact(const Context& ctx, std::uint32_t i, std::uint32_t j,
                                 std::uint32_t k, std::uint32_t l) {
-  return unsigned(tetrahedron_seen(ctx.X, i, j, k, l)) |
-         unsigned(tetrahedron_seen(ctx.X, j, i, k, l)) << 1 |
-         unsigned(tetrahedron_seen(ctx.X, k, i, j, l)) << 2 |
-         unsigned(tetrahedron_seen(ctx.X, l, i, j, k)) << 3;
+  const double f = ctx.degenerate;
+  return unsigned(tetrahedron_seen(ctx.X, f, i, j, k, l)) |
+         unsigned(tetrahedron_seen(ctx.X, f, j, i, k, l)) << 1 |
+         unsigned(tetrahedron_seen(ctx.X, f, k, i, j, l)) << 2 |
+         unsigned(tetrahedron_seen(ctx.X, f, l, i, j, k)) << 3;
 }
 
 unsigned tetrahedron_mask(const Context& ctx, double volume, std::uint32_t i, std::uint32_t j,
@@ -230,7 +235,7 @@ bool reference_triangle_term(const Context& ctx, std::uint32_t c, std::uint32_t 
   const Vec3 Xc = ctx.X[c];
   const Vec3 P = ctx.X[o1] - Xc, Q = ctx.X[o2] - Xc;
   const double A = P.cross(Q).norm();
-  if (A <= kDegenerateFraction * P.norm() * Q.norm()) return false;
+  if (A <= ctx.degenerate * P.norm() * Q.norm()) return false;
   const Vec3 uc = ctx.u ? ctx.u[c] : Vec3::Zero();
   const Vec3 p = ctx.u ? Vec3(P + (ctx.u[o1] - uc)) : P;
   const Vec3 q = ctx.u ? Vec3(Q + (ctx.u[o2] - uc)) : Q;
@@ -249,7 +254,7 @@ bool reference_tetrahedron_term(const Context& ctx, std::uint32_t c, std::uint32
   const Vec3 Xc = ctx.X[c];
   const Vec3 P = ctx.X[o1] - Xc, Q = ctx.X[o2] - Xc, R = ctx.X[o3] - Xc;
   const double V = std::abs(P.dot(Q.cross(R)));
-  if (V <= kDegenerateFraction * P.norm() * Q.norm() * R.norm()) return false;
+  if (V <= ctx.degenerate * P.norm() * Q.norm() * R.norm()) return false;
   const Vec3 uc = ctx.u ? ctx.u[c] : Vec3::Zero();
   const Vec3 p = ctx.u ? Vec3(P + (ctx.u[o1] - uc)) : P;
   const Vec3 q = ctx.u ? Vec3(Q + (ctx.u[o2] - uc)) : Q;
@@ -594,6 +599,7 @@ Context make_context(const Body& body) {
   ctx.c1 = body.constants.c1;
   ctx.c2 = body.constants.c2;
   ctx.c3 = body.constants.c3;
+  ctx.degenerate = body.degenerate_fraction;
   return ctx;
 }
 
@@ -602,10 +608,11 @@ void set_screens(Context& ctx, double min_bond_length) {
   const double D = ctx.body->horizon * (1 + kHorizonTolerance);
   const double D2 = D * D, D3 = D2 * D;
   const double L2 = min_bond_length * min_bond_length, L3 = L2 * min_bond_length;
-  ctx.hi2 = kDegenerateFraction * (1 + kThresholdSlack) * D2 + kRoundoff * D2;
-  ctx.hi3 = kDegenerateFraction * (1 + kThresholdSlack) * D3 + kRoundoff * D3;
-  ctx.lo2 = kDegenerateFraction * (1 - kThresholdSlack) * L2 - kRoundoff * D2;
-  ctx.lo3 = kDegenerateFraction * (1 - kThresholdSlack) * L3 - kRoundoff * D3;
+  const double f = ctx.degenerate;
+  ctx.hi2 = f * (1 + kThresholdSlack) * D2 + kRoundoff * D2;
+  ctx.hi3 = f * (1 + kThresholdSlack) * D3 + kRoundoff * D3;
+  ctx.lo2 = f * (1 - kThresholdSlack) * L2 - kRoundoff * D2;
+  ctx.lo3 = f * (1 - kThresholdSlack) * L3 - kRoundoff * D3;
   ctx.well2 = std::max(ctx.hi2, kWellConditioned2 * D2);
   ctx.well3 = std::max(ctx.hi3, kWellConditioned3 * D3);
 }
