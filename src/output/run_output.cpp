@@ -7,6 +7,7 @@
 
 #include "bodies/damage.hpp"
 #include "bodies/fragments.hpp"
+#include "src/output/beta_report.hpp"
 #include "src/output/contact_summary.hpp"
 #include <stdexcept>
 #include <vector>
@@ -87,6 +88,7 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
                       {"precracked_bonds", sim.precracked_bonds(index)},
                       {"broken_bonds", sim.broken_bonds(index)},
                       {"max_damage", b.damage_enabled ? max_point_damage(b) : 0.0},
+                      {"beta", beta_summary(b)},
                       // Connected components of intact bonds; single points count.
                       {"fragments", fragments.count()},
                       {"largest_fragments", sizes}});

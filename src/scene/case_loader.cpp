@@ -8,6 +8,7 @@
 
 #include "bodies/material.hpp"
 #include "src/geometry/lattice.hpp"
+#include "src/geometry/point_cloud.hpp"
 #include "src/geometry/shape.hpp"
 #include "src/output/field_writer.hpp"
 #include "src/scene/contact_loader.hpp"
@@ -111,18 +112,39 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
     if (v <= 0) m->fail("a positive point limit");
     max_points = static_cast<std::size_t>(v);
   }
-  const CaseNode geometry = n.required("geometry");
-  const std::unique_ptr<Shape> shape = make_shape(geometry, def.dimension);
+  // The points come from a shape sampled on a lattice or from a point-cloud file.
+  const auto geometry_node = n.optional("geometry");
+  const auto points_node = n.optional("points");
+  if (geometry_node && points_node) n.fail("either geometry or points, not both");
+  if (!geometry_node && !points_node) n.fail("a geometry (a shape) or points (a point-cloud file)");
   LatticeSample sample;
-  try {
-    sample = sample_lattice(*shape, def.dimension, spacing, def.horizon, max_points);
-  } catch (const std::invalid_argument& e) {
-    geometry.fail(std::string("a geometry that can be sampled (") + e.what() + ")");
+  if (points_node) {
+    sample = load_point_cloud(*points_node, def.dimension, spacing, def.horizon, max_points);
+  } else {
+    const CaseNode& geometry = *geometry_node;
+    const std::unique_ptr<Shape> shape = make_shape(geometry, def.dimension);
+    try {
+      sample = sample_lattice(*shape, def.dimension, spacing, def.horizon, max_points);
+    } catch (const std::invalid_argument& e) {
+      geometry.fail(std::string("a geometry that can be sampled (") + e.what() + ")");
+    }
+    if (sample.position.empty())
+      throw CaseError(geometry.where() + ": body '" + def.name +
+                      "' has no points: the geometry holds no lattice site at spacing " +
+                      std::to_string(spacing) + " m");
   }
-  if (sample.position.empty())
-    throw CaseError(geometry.where() + ": body '" + def.name +
-                    "' has no points: the geometry holds no lattice site at spacing " +
-                    std::to_string(spacing) + " m");
+  if (auto b = n.optional("beta")) {
+    // strict: a family fuller than the reference is an error; capped: beta = min(raw, 1),
+    // with the count of capped points reported (README, "Point clouds").
+    const std::string policy = b->as_string();
+    if (policy != "strict" && policy != "capped") b->fail("'strict' or 'capped'");
+    def.cap_beta = policy == "capped";
+  }
+  if (auto f = n.optional("degenerate_fraction")) {
+    // Sets with |A| <= f L L (|V| <= f L L L) are left out (BodyDefinition::degenerate_fraction).
+    def.degenerate_fraction = f->as_positive();
+    if (def.degenerate_fraction >= 1) f->fail("a fraction in (0, 1)");
+  }
   def.reference_position = std::move(sample.position);
   def.volume = std::move(sample.volume);
   def.full_family_volume = sample.full_family_volume;
