@@ -112,6 +112,44 @@ TEST_CASE("N steps and a restart for N more give the state of 2N steps bit for b
   CHECK(rows == 10);
 }
 
+TEST_CASE("a restart through contact and fragmentation continues bit for bit", "[restart]") {
+  // Two discs hit at 60 m/s closing speed and shatter: contact pairs, broken bonds, fragments.
+  const char* text = R"(# SI units
+materials:
+  steel: {density: 7850, youngs_modulus: 200e9, poisson_ratio: 0.3, fracture_energy: 20}
+bodies:
+  - {name: left, material: steel, dimension: 2, geometry: {type: sphere, center: [-0.0101, 0], radius: 0.01},
+     spacing: 0.001, horizon_ratio: 3.015}
+  - {name: right, material: steel, dimension: 2, geometry: {type: sphere, center: [0.0101, 0], radius: 0.01},
+     spacing: 0.001, horizon_ratio: 3.015}
+conditions:
+  - {type: initial_velocity, body: left, value: [30, 0]}
+  - {type: initial_velocity, body: right, value: [-30, 0]}
+contact: {stiffness: 1.0e11, radius: 0.0008}
+time: {steps: 600}
+output: {history_interval: 50, checkpoint_interval: 300}
+)";
+  const auto dir = fresh_dir("restart-contact");
+  const std::string file = write_file(dir / "case.yaml", text);
+  REQUIRE(run_ckpd("run " + file + " --quiet --threads 2 --out " + (dir / "full").string())
+              .exit_code == 0);
+  REQUIRE(run_ckpd("run " + file + " --quiet --threads 2 --set time.steps=300 --out " +
+                   (dir / "part").string())
+              .exit_code == 0);
+  std::filesystem::copy_file(dir / "part" / "checkpoint.h5", dir / "at300.h5");
+  const CommandResult r = run_ckpd("run " + file + " --quiet --threads 2 --restart " +
+                                   (dir / "at300.h5").string() + " --out " + (dir / "part").string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const auto full = read_json(dir / "full" / "summary.json");
+  const auto resumed = read_json(dir / "part" / "summary.json");
+  CHECK(full["broken_bonds"].get<int>() > 1000);
+  CHECK(full["contact"]["point_pairs_in_contact_peak"].get<long long>() > 0);
+  CHECK(resumed["energy"] == full["energy"]);
+  CHECK(resumed["broken_bonds"] == full["broken_bonds"]);
+  require_identical_checkpoints(dir / "full" / "checkpoint.h5", dir / "part" / "checkpoint.h5");
+}
+
 TEST_CASE("SIGINT stops a run with a checkpoint it can continue from", "[restart]") {
   const auto dir = fresh_dir("sigint");
   std::string text = kCase;
