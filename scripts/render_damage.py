@@ -244,11 +244,14 @@ def main():
     extent = np.ptp(xy, axis=0)
     dx = spacing_estimate(p[:, :b["dimension"]])  # before projection: layers overlap
     aspect = extent[1] / extent[0] if extent[0] > 0 else 1.0
-    height = max(2.0, min(args.width * aspect + 1.2, 12.0))
-    fig, ax = plt.subplots(figsize=(args.width, height), dpi=args.dpi)
+    # The axes take about 0.75 of the width (the colour bar the rest); room for the labels.
+    height = max(2.5, min(0.75 * args.width * aspect + 1.0, 12.0))
+    fig, ax = plt.subplots(figsize=(args.width, height), dpi=args.dpi, layout="constrained")
     # Marker area from the point spacing in display units, so the points tile the body.
-    axes_width_pt = 0.8 * args.width * 72
-    size = (axes_width_pt * dx / max(extent[0], 1e-30)) ** 2 * 1.1
+    axes_width_pt = 0.75 * args.width * 72
+    if 0.75 * args.width * aspect + 1.0 > 12.0:  # height-limited: the axes are narrower
+        axes_width_pt = (12.0 - 1.0) / aspect * 72
+    size = (axes_width_pt * dx / max(extent[0], 1e-30)) ** 2 * 1.6
     sc = ax.scatter(xy[:, 0], xy[:, 1], c=d, s=size, cmap="inferno_r", vmin=0, vmax=1,
                     marker="s", linewidths=0, rasterized=True)
     ax.set_aspect("equal")
@@ -256,8 +259,8 @@ def main():
     ax.set_ylabel(f"{view[1]} (m)")
     layer = "" if b["dimension"] == 2 else (" mid layer" if args.layer == "mid" else " all layers")
     ax.set_title(args.title or f"{b['name']}: damage at t = {b['time'] * 1e3:.3f} ms "
-                 f"(step {b['step']}){layer}")
-    fig.colorbar(sc, ax=ax, label="damage D", shrink=0.8)
+                 f"(step {b['step']}){layer}", fontsize=10, wrap=True)
+    fig.colorbar(sc, ax=ax, label="damage D", shrink=min(0.8, 3.0 / height + 0.3))
     pad = 2 * dx
     ax.set_xlim(all_xy[:, 0].min() - pad, all_xy[:, 0].max() + pad)
     ax.set_ylim(all_xy[:, 1].min() - pad, all_xy[:, 1].max() + pad)
@@ -279,7 +282,6 @@ def main():
             ax.annotate(f"{a['angle_deg']:.1f}°", (t[-1, 0], t[-1, 1]), color="tab:blue",
                         fontsize=10, xytext=(4, 0), textcoords="offset points")
     out = args.out or os.path.join(args.run, f"damage_{b['step']:06d}.png")
-    fig.tight_layout()
     fig.savefig(out)
     report["png"] = out
     report["png_kb"] = round(os.path.getsize(out) / 1024, 1)
