@@ -36,6 +36,8 @@ struct ContactStatistics {
   std::size_t candidate_pairs_peak = 0;
   std::size_t points_in_contact = 0;  // point pairs closer than l_c now
   std::size_t points_in_contact_peak = 0;
+  std::size_t touching_pairs = 0;  // body pairs with a point pair closer than l_c now
+  std::size_t touching_pairs_peak = 0;
   double seconds = 0;  // wall time spent in add_forces
 };
 
@@ -77,6 +79,7 @@ class ContactManager {
   std::vector<Pair*> all_pairs_;
   std::vector<double> target_energy_;
   std::vector<std::uint32_t> target_contacts_, target_tests_;
+  std::vector<std::uint8_t> pair_touching_;  // per pair of all_pairs_, this evaluation
   bool built_ = false;
   double energy_ = 0;
   ContactStatistics stats_;

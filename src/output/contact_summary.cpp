@@ -23,6 +23,26 @@ nlohmann::ordered_json rigid_bodies(const Simulation& sim) {
   return list;
 }
 
+// Every body's centre of mass and mean velocity (momentum / mass): where the bodies went.
+nlohmann::ordered_json body_motion(const Simulation& sim) {
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (const SceneBody& sb : sim.scene().bodies) {
+    const Body& b = sb.body;
+    Vec3 centre = Vec3::Zero(), momentum = Vec3::Zero();
+    double volume = 0, mass = 0;
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      centre += b.volume[i] * b.current_position(i);
+      volume += b.volume[i];
+      momentum += b.density * b.volume[i] * b.velocity[i];
+      mass += b.density * b.volume[i];
+    }
+    list.push_back({{"name", b.name},
+                    {"centre", vector_json(centre / volume)},
+                    {"velocity", vector_json(mass > 0 ? Vec3(momentum / mass) : Vec3::Zero())}});
+  }
+  return list;
+}
+
 }  // namespace
 
 nlohmann::ordered_json contact_summary(const Simulation& sim) {
@@ -35,6 +55,7 @@ nlohmann::ordered_json contact_summary(const Simulation& sim) {
     j["broad_phase_rebuilds"] = s.rebuilds;
     j["pairs_checked"] = s.pairs_checked;
     j["candidate_pairs_peak"] = s.candidate_pairs_peak;
+    j["touching_pairs_peak"] = s.touching_pairs_peak;
     j["point_pairs_in_contact_peak"] = s.points_in_contact_peak;
     j["point_pairs_in_contact"] = s.points_in_contact;
     j["points_binned"] = s.points_binned;
@@ -43,6 +64,7 @@ nlohmann::ordered_json contact_summary(const Simulation& sim) {
   }
   j["body_force_seconds"] = sim.body_force_seconds();
   j["rigid_bodies"] = rigid_bodies(sim);
+  j["body_motion"] = body_motion(sim);
   return j;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // The summary.json parts that contact and rigid bodies add: broad- and narrow-phase counters,
-// contact time, and each rigid body's motion at the end.
+// contact time, each rigid body's motion at the end, and every body's centre of mass and mean
+// velocity (where the bodies of an impact went).
 #include <nlohmann/json.hpp>
 
 #include "src/engine/simulation.hpp"
