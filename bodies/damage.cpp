@@ -86,6 +86,18 @@ std::size_t apply_precrack(Body& body, const Precrack& crack) {
   return cut;
 }
 
+namespace {
+// Whether the intact bond stored at k in point i's row fails now: stretch over the critical
+// stretch and neither end in a no-failure zone. Both stored directions give the same answer.
+bool breaks_now(const Body& body, bool protect, std::size_t i, std::size_t k) {
+  if (!body.bond_intact[k]) return false;
+  const std::uint32_t j = body.family.neighbour[k];
+  if (protect && (body.no_failure[i] || body.no_failure[j])) return false;
+  return bond_stretch(body.reference_position[j] - body.reference_position[i],
+                      body.displacement[j] - body.displacement[i]) > body.critical_stretch;
+}
+}  // namespace
+
 std::size_t update_bond_failure(Body& body) {
   if (!body.damage_enabled) return 0;
   const std::size_t n = body.size();
@@ -93,16 +105,10 @@ std::size_t update_bond_failure(Body& body) {
   std::size_t failed = 0;
 #pragma omp parallel for schedule(static) reduction(+ : failed)
   for (std::size_t i = 0; i < n; ++i) {
-    if (protect && body.no_failure[i]) continue;
-    const Vec3 Xi = body.reference_position[i], ui = body.displacement[i];
     for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
-      if (!body.bond_intact[k]) continue;
-      const std::uint32_t j = body.family.neighbour[k];
-      if (protect && body.no_failure[j]) continue;
-      if (bond_stretch(body.reference_position[j] - Xi, body.displacement[j] - ui) >
-          body.critical_stretch) {
+      if (breaks_now(body, protect, i, k)) {
         body.bond_intact[k] = 0;
-        if (i < j) ++failed;
+        if (i < body.family.neighbour[k]) ++failed;
       }
     }
   }
@@ -119,14 +125,8 @@ FailureUpdate fail_overstretched_bonds(Body& body) {
   bool any = false;
 #pragma omp parallel for schedule(static) reduction(|| : any)
   for (std::size_t i = 0; i < n; ++i) {
-    if (protect && body.no_failure[i]) continue;
-    const Vec3 Xi = body.reference_position[i], ui = body.displacement[i];
     for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
-      if (!body.bond_intact[k]) continue;
-      const std::uint32_t j = body.family.neighbour[k];
-      if (protect && body.no_failure[j]) continue;
-      if (bond_stretch(body.reference_position[j] - Xi, body.displacement[j] - ui) >
-          body.critical_stretch) {
+      if (breaks_now(body, protect, i, k)) {
         touched[i] = 1;
         any = true;
         break;

@@ -113,7 +113,8 @@ Simulation::Simulation(Scene& scene) : scene_(scene) {
   if (scene_.time.steps >= 0) {
     planned_steps_ = scene_.time.steps;
   } else {
-    planned_steps_ = static_cast<long long>(std::ceil(scene_.time.end_time / step_choice_.dt - 1e-9));
+    planned_steps_ =
+        static_cast<long long>(std::ceil(scene_.time.end_time / step_choice_.dt - 1e-9));
   }
   double max_speed = 0;
   for (SceneBody& sb : scene_.bodies) {
@@ -127,7 +128,8 @@ Simulation::Simulation(Scene& scene) : scene_(scene) {
       continue;  // no lattice waves
     }
     // omega_max dx bounds the fastest wave a lattice carries.
-    const double k = *std::max_element(sb.body.stiffness_bound.begin(), sb.body.stiffness_bound.end());
+    const double k =
+        *std::max_element(sb.body.stiffness_bound.begin(), sb.body.stiffness_bound.end());
     max_speed = std::max(max_speed, sb.spacing * std::sqrt(k / sb.body.density));
   }
   // No material point of a stable run moves at ten times the fastest wave or load speed.
@@ -244,8 +246,9 @@ void Simulation::advance(bool with_energy) {
       }
 #pragma omp critical
       {
-        if ((!my_finite && finite) || (my_finite == finite && (my_worst > worst ||
-                                                               (my_worst == worst && my_point < worst_point)))) {
+        if ((!my_finite && finite) ||
+            (my_finite == finite &&
+             (my_worst > worst || (my_worst == worst && my_point < worst_point)))) {
           worst = my_worst;
           worst_point = my_point;
         }
@@ -263,8 +266,7 @@ void Simulation::advance(bool with_energy) {
       else
         msg << "moves at " << std::sqrt(worst) << " m/s, over the guard's limit of " << speed_limit_
             << " m/s (ten times the fastest wave or load speed)";
-      msg << "; dt = " << dt << " s is " << step_choice_.safety
-          << " x the stable-step estimate";
+      msg << "; dt = " << dt << " s is " << step_choice_.safety << " x the stable-step estimate";
       throw InstabilityError(msg.str());
     }
   }
@@ -283,7 +285,8 @@ void Simulation::check_energy() const {
     for (const SceneBody& sb : scene_.bodies) {
       const Body& b = sb.body;
       for (std::size_t i = 0; i < b.size(); ++i) {
-        const double density = 0.5 * b.density * b.velocity[i].squaredNorm() + b.strain_energy_density[i];
+        const double density =
+            0.5 * b.density * b.velocity[i].squaredNorm() + b.strain_energy_density[i];
         if (density > largest) {
           largest = density;
           where_body = &b;
@@ -294,8 +297,9 @@ void Simulation::check_energy() const {
     std::ostringstream msg;
     msg << "instability at step " << step_ << ", t = " << time_
         << " s: kinetic + strain + contact energy " << now
-        << " J is more than ten times the energy put in (" << supplied << " J), most of it at body '"
-        << where_body->name << "', point " << where_point << " at reference "
+        << " J is more than ten times the energy put in (" << supplied
+        << " J), most of it at body '" << where_body->name << "', point " << where_point
+        << " at reference "
         << format_position(where_body->reference_position[where_point], where_body->dimension)
         << "; dt = " << step_choice_.dt << " s is " << step_choice_.safety
         << " x the stable-step estimate";
@@ -304,8 +308,8 @@ void Simulation::check_energy() const {
 }
 
 Simulation::Counters Simulation::counters() const {
-  return {time_, step_, external_work_, dissipated_, strain_energy_, initial_total_,
-          initially_failed_};
+  return {time_,          step_,          external_work_,   dissipated_,
+          strain_energy_, initial_total_, initially_failed_};
 }
 
 void Simulation::restore(const Counters& c) {
