@@ -233,7 +233,8 @@ void ContactManager::add_forces() {
       std::uint32_t tests = 0;
       found.clear();
       for (std::uint32_t r = target.ref_begin; r < target.ref_end; ++r) {
-        const Pair& p = *all_pairs_[target_refs_[r] / 2];
+        const std::uint32_t pair = target_refs_[r] / 2;
+        const Pair& p = *all_pairs_[pair];
         const int side = static_cast<int>(target_refs_[r] % 2);
         const int other = p.self ? 0 : 1 - side;
         const double lc = p.law.radius, c = p.law.coefficient[side];
@@ -245,12 +246,12 @@ void ContactManager::add_forces() {
           const Vec3 d = xi - xj;
           const double r2 = d.squaredNorm();
           if (r2 >= lc * lc || r2 == 0) return;
-          const double r = std::sqrt(r2), gap = lc - r;
+          const double distance = std::sqrt(r2), gap = lc - distance;
           const double volumes = vi * vj;
-          found.push_back(
-              {p.body[other], j, (c * gap / r * volumes) * d, quarter_mean * volumes * gap * gap});
+          found.push_back({p.body[other], j, (c * gap / distance * volumes) * d,
+                           quarter_mean * volumes * gap * gap});
 #pragma omp atomic write
-          pair_touching_[target_refs_[r] / 2] = 1;
+          pair_touching_[pair] = 1;
         });
       }
       std::sort(found.begin(), found.end());

@@ -106,6 +106,7 @@ TEST_CASE(
   check_against_all_pairs(scene, manager, false);
   CHECK(manager.statistics().rebuilds == 1);
   CHECK(manager.statistics().candidate_pairs == 3);
+  CHECK(manager.statistics().touching_pairs == 3);
   CHECK(manager.statistics().points_in_contact > 10);
 
   // Every point moves less than half the skin (0.2 mm): the candidates still hold.
