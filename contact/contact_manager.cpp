@@ -241,11 +241,12 @@ void ContactManager::add_forces() {
         // Each point pair is met from both ends; each end books half its energy.
         const double quarter_mean = 0.25 * p.law.mean_coefficient();
         p.grid[other].for_each_near(xi, [&](std::uint32_t j, const Vec3& xj, double vj) {
-          if (p.self && (j == i || intact_bond(body, i, j))) return;
           ++tests;
           const Vec3 d = xi - xj;
           const double r2 = d.squaredNorm();
           if (r2 >= lc * lc || r2 == 0) return;
+          // Distance first: the bond lookup is the dearer test, and most pairs fail the other.
+          if (p.self && intact_bond(body, i, j)) return;
           const double distance = std::sqrt(r2), gap = lc - distance;
           const double volumes = vi * vj;
           found.push_back({p.body[other], j, (c * gap / distance * volumes) * d,
