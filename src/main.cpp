@@ -6,6 +6,7 @@
 #include "src/cli/check_command.hpp"
 #include "src/cli/patch_test_command.hpp"
 #include "src/cli/run_command.hpp"
+#include "src/cli/sweep_command.hpp"
 #include "src/output/checkpoint.hpp"
 #include "src/scene/case_node.hpp"
 
@@ -16,6 +17,7 @@ int main(int argc, char** argv) {
   ckpd::add_run_command(app, exit_status);
   ckpd::add_check_command(app);
   ckpd::add_patch_test_command(app);
+  ckpd::add_sweep_command(app, exit_status);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
