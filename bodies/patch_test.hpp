@@ -20,4 +20,24 @@ struct PatchTestResult {
 PatchTestResult run_patch_test(int dimension, double horizon_ratio, double youngs_modulus,
                                double poisson_ratio, PlaneMode plane, double strain = 1e-6);
 
+// The same test with given constants (for the unit lattice: spacing 1, horizon m).
+PatchTestResult run_patch_test(int dimension, double horizon_ratio, double youngs_modulus,
+                               double poisson_ratio, PlaneMode plane,
+                               const InteractionConstants& constants, double strain = 1e-6);
+
+// Calibrated constants: C1 and C3 (3D) or C1 and C2 (2D) chosen so that an interior point of the
+// cubic (square) lattice of this spacing and horizon has exactly the continuum's strain-energy
+// density under volumetric (e = eps I) and uniaxial (e_xx = eps) strain, i.e. the continuum's
+// bulk modulus and P-wave modulus lambda + 2 mu. The energy of a homogeneous strain is linear in
+// the constants, so the two unknowns solve a 2 x 2 linear system whose matrix depends only on
+// the lattice and m (not on E or nu): it is regular whenever the point has two- (three-)
+// neighbour sets, i.e. m >= sqrt(2) (2D and 3D); below that std::invalid_argument is thrown.
+// The constants are solved for, not scaled, so nu = 1/4 (3D) and 1/3 (2D plane stress), where
+// the analytic C3 (C2) is 0, are not singular: the calibrated constant is then small but not 0,
+// and the family is built. The shear ratio (e_xy = e_yx = eps) is not calibrated: a cubic
+// (square) lattice is anisotropic, and what is left of its error is the lattice's anisotropy.
+InteractionConstants calibrated_constants(int dimension, double youngs_modulus,
+                                          double poisson_ratio, PlaneMode plane, double horizon,
+                                          double spacing);
+
 }  // namespace ckpd

@@ -137,3 +137,16 @@ TEST_CASE("a --set override changes a value, and a path that does not exist is r
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("time.stpes") != std::string::npos);
 }
+
+TEST_CASE("a body's constants must be 'analytic' or 'calibrated'", "[cli][calibration]") {
+  const auto dir = fresh_dir("calibrated");
+  const std::string file = write_file(
+      dir / "case.yaml", replace(kGoodCase, "    horizon_ratio: 3.015\n",
+                                 "    horizon_ratio: 3.015\n    constants: calibrated\n"));
+  const CommandResult r = run_ckpd("run " + file + " --quiet --out " + (dir / "out").string());
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  expect_rejected(replace(kGoodCase, "    horizon_ratio: 3.015\n",
+                          "    horizon_ratio: 3.015\n    constants: fitted\n"),
+                  {"case.yaml:11:", "constants", "'analytic' or 'calibrated'"});
+}

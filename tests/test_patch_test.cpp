@@ -102,6 +102,13 @@ class InfiniteLatticePatch {
     return (w1 / 2 + w2 / 3 + w3 / 4) / continuum;
   }
 
+  // Replaces the MODEL.md constants (for the calibration tests).
+  void set_constants(double c1, double c2, double c3) {
+    c1_ = c1;
+    c2_ = c2;
+    c3_ = c3;
+  }
+
   Expected expected(double eps) const {
     Expected x{n1(), n2(), n3(), 0, 0, 0};
     Mat3 e = Mat3::Zero();
@@ -188,4 +195,66 @@ TEST_CASE("patch-test ratios are a small-strain limit independent of the strain 
   CHECK(a.volumetric == Approx(b.volumetric).epsilon(1e-5));
   CHECK(a.shear == Approx(b.shear).epsilon(1e-5));
   CHECK(a.uniaxial == Approx(b.uniaxial).epsilon(1e-5));
+}
+
+// Calibrated constants (`constants: calibrated`): C1 and C3 (C2 in 2D) solved so that the
+// lattice's volumetric and uniaxial energies equal the continuum's.
+TEST_CASE("calibrated constants give volumetric and uniaxial ratios of 1 on their lattice",
+          "[patch_test][calibration]") {
+  struct Case {
+    int dimension;
+    double m, nu;
+    ckpd::PlaneMode plane;
+  };
+  const std::vector<Case> cases = {
+      {3, 2.015, 0.3, ckpd::PlaneMode::none},       {3, 3.015, 0.3, ckpd::PlaneMode::none},
+      {3, 2.015, 0.05, ckpd::PlaneMode::none},  // analytic C3 < 0
+      {3, 2.015, 0.25, ckpd::PlaneMode::none},  // analytic C3 = 0: solved, not scaled
+      {3, 1.5, 0.49, ckpd::PlaneMode::none},    // large C3; smallest m with triples
+      {2, 3.015, 0.3, ckpd::PlaneMode::stress},     {2, 4.015, 0.1, ckpd::PlaneMode::stress},
+      {2, 2.015, 1.0 / 3, ckpd::PlaneMode::stress},  // analytic C2 = 0
+      {2, 3.015, 0.45, ckpd::PlaneMode::strain},
+  };
+  for (const Case& c : cases) {
+    INFO("dimension " << c.dimension << ", m " << c.m << ", nu " << c.nu);
+    const double E = 210e9;
+    const ckpd::InteractionConstants cal =
+        ckpd::calibrated_constants(c.dimension, E, c.nu, c.plane, c.m, 1.0);
+    const auto r = ckpd::run_patch_test(c.dimension, c.m, E, c.nu, c.plane, cal);
+    CHECK(std::abs(r.volumetric - 1) < 1e-3);
+    CHECK(std::abs(r.uniaxial - 1) < 1e-3);
+    // The independent infinite-lattice computation with the same constants agrees.
+    InfiniteLatticePatch independent(c.dimension, c.m, E, c.nu, c.plane == ckpd::PlaneMode::stress);
+    independent.set_constants(cal.c1, cal.c2, cal.c3);
+    const Expected x = independent.expected(1e-6);
+    CHECK(std::abs(x.volumetric - 1) < 1e-3);
+    CHECK(std::abs(x.uniaxial - 1) < 1e-3);
+    CHECK(r.shear == Approx(x.shear).epsilon(0).margin(1e-6));
+    if (c.nu == 0.25 && c.dimension == 3) CHECK(cal.c3 != 0);
+  }
+}
+
+TEST_CASE("calibrated constants scale with the spacing like the analytic ones",
+          "[patch_test][calibration]") {
+  const double dx = 2.5e-3, m = 3.015;
+  for (int dim : {2, 3}) {
+    const auto plane = dim == 2 ? ckpd::PlaneMode::stress : ckpd::PlaneMode::none;
+    const auto unit = ckpd::calibrated_constants(dim, 200e9, 0.3, plane, m, 1.0);
+    const auto real = ckpd::calibrated_constants(dim, 200e9, 0.3, plane, m * dx, dx);
+    const auto a_unit = ckpd::interaction_constants(dim, 200e9, 0.3, plane, m);
+    const auto a_real = ckpd::interaction_constants(dim, 200e9, 0.3, plane, m * dx);
+    // The calibrated-to-analytic scale factors are properties of the lattice and m only.
+    CHECK(real.c1 / a_real.c1 == Approx(unit.c1 / a_unit.c1).epsilon(1e-9));
+    if (dim == 2) CHECK(real.c2 / a_real.c2 == Approx(unit.c2 / a_unit.c2).epsilon(1e-9));
+    if (dim == 3) CHECK(real.c3 / a_real.c3 == Approx(unit.c3 / a_unit.c3).epsilon(1e-9));
+  }
+}
+
+TEST_CASE("calibration without three-neighbour sets is refused with a reason",
+          "[patch_test][calibration]") {
+  // At m = 1.2 an interior point's bonds are the 6 axis neighbours: no tetrahedron fits.
+  CHECK_THROWS_WITH(ckpd::calibrated_constants(3, 200e9, 0.3, ckpd::PlaneMode::none, 1.2, 1.0),
+                    Catch::Contains("N3 = 0"));
+  CHECK_THROWS_WITH(ckpd::calibrated_constants(2, 200e9, 0.3, ckpd::PlaneMode::stress, 1.2, 1.0),
+                    Catch::Contains("N2 = 0"));
 }

@@ -15,6 +15,7 @@ struct PatchTestOptions {
   double youngs_modulus = 210e9;
   double poisson_ratio = 0.3;
   std::string plane = "stress";
+  bool calibrated = false;
 };
 }  // namespace
 
@@ -30,6 +31,9 @@ void add_patch_test_command(CLI::App& app) {
   cmd->add_option("--nu", opt->poisson_ratio, "Poisson's ratio");
   cmd->add_option("--plane", opt->plane, "2D only: stress or strain")
       ->check(CLI::IsMember({"stress", "strain"}));
+  cmd->add_flag("--calibrated", opt->calibrated,
+                "also print the calibrated constants (body key `constants: calibrated`) and "
+                "the ratios they give");
   cmd->callback([opt]() {
     const PlaneMode plane =
         opt->dimension == 2 ? plane_mode_from_string(opt->plane) : PlaneMode::none;
@@ -45,6 +49,28 @@ void add_patch_test_command(CLI::App& app) {
     j["N2"] = r.n2;
     j["N3"] = r.n3;
     j["ratio"] = {{"volumetric", r.volumetric}, {"shear", r.shear}, {"uniaxial", r.uniaxial}};
+    if (opt->calibrated) {
+      // Constants of the unit lattice (spacing 1, horizon m), and their ratio to the analytic
+      // ones (null where the analytic constant is 0).
+      const InteractionConstants plain = interaction_constants(opt->dimension, opt->youngs_modulus,
+                                                               opt->poisson_ratio, plane, opt->m);
+      const InteractionConstants cal = calibrated_constants(opt->dimension, opt->youngs_modulus,
+                                                            opt->poisson_ratio, plane, opt->m, 1.0);
+      const PatchTestResult rc = run_patch_test(opt->dimension, opt->m, opt->youngs_modulus,
+                                                opt->poisson_ratio, plane, cal);
+      auto scale = [](double c, double p) {
+        return p != 0 ? nlohmann::ordered_json(c / p) : nlohmann::ordered_json(nullptr);
+      };
+      const char* other = opt->dimension == 2 ? "C2" : "C3";
+      const double cal_n = opt->dimension == 2 ? cal.c2 : cal.c3;
+      const double plain_n = opt->dimension == 2 ? plain.c2 : plain.c3;
+      nlohmann::ordered_json c;
+      c["constants"] = {{"C1", cal.c1}, {other, cal_n}};
+      c["analytic_constants"] = {{"C1", plain.c1}, {other, plain_n}};
+      c["scale"] = {{"C1", scale(cal.c1, plain.c1)}, {other, scale(cal_n, plain_n)}};
+      c["ratio"] = {{"volumetric", rc.volumetric}, {"shear", rc.shear}, {"uniaxial", rc.uniaxial}};
+      j["calibrated"] = c;
+    }
     std::cout << j.dump(2) << '\n';
   });
 }

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "bodies/material.hpp"
+#include "bodies/patch_test.hpp"
 #include "src/geometry/lattice.hpp"
 #include "src/geometry/point_cloud.hpp"
 #include "src/geometry/shape.hpp"
@@ -145,6 +146,16 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
     def.degenerate_fraction = f->as_positive();
     if (def.degenerate_fraction >= 1) f->fail("a fraction in (0, 1)");
   }
+  // constants: analytic (MODEL.md section 3, default) or calibrated to the lattice's patch test
+  // (bodies/patch_test.hpp: exact bulk and uniaxial-strain moduli for this spacing and m).
+  bool calibrated = false;
+  std::optional<CaseNode> constants_node = n.optional("constants");
+  if (constants_node) {
+    const std::string kind = constants_node->as_string();
+    if (kind != "analytic" && kind != "calibrated")
+      constants_node->fail("'analytic' or 'calibrated'");
+    calibrated = kind == "calibrated";
+  }
   def.reference_position = std::move(sample.position);
   def.volume = std::move(sample.volume);
   def.full_family_volume = sample.full_family_volume;
@@ -153,6 +164,9 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
   try {
     def.constants = interaction_constants(def.dimension, mat.youngs_modulus, mat.poisson_ratio,
                                           plane, def.horizon);
+    if (calibrated)
+      def.constants = calibrated_constants(def.dimension, mat.youngs_modulus, mat.poisson_ratio,
+                                           plane, def.horizon, spacing);
     if (mat.critical_stretch) {
       def.critical_stretch = *mat.critical_stretch;
     } else if (mat.fracture_energy) {
@@ -162,6 +176,9 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
                                                 *mat.fracture_energy);
     }
   } catch (const std::invalid_argument& e) {
+    if (calibrated)
+      constants_node->fail(std::string("calibrated constants for body '") + def.name + "' (" +
+                           e.what() + ")");
     mat.node.fail(std::string("constants valid for body '") + def.name + "' (" + e.what() + ")");
   }
 
