@@ -218,9 +218,14 @@ int run_sweep(const Sweep& sweep, const RunnerOptions& opt) {
     const double elapsed = std::chrono::duration<double>(now - start).count();
     const std::size_t left = todo.size() - finished;
     std::string eta = "?";
-    if (finished > 0)
-      eta = clock_text(finished_seconds / finished * static_cast<double>(left) /
-                       std::min<double>(jobs, std::max<std::size_t>(left, 1)));
+    if (finished > 0) {
+      // The work left (mean run time x runs left) less what the running runs have done.
+      double work = finished_seconds / finished * static_cast<double>(left);
+      for (const auto& [pid, child] : running)
+        work -= std::chrono::duration<double>(now - child.start).count();
+      eta =
+          clock_text(std::max(0.0, work) / std::min<double>(jobs, std::max<std::size_t>(left, 1)));
+    }
     if (left == 0) eta = "0:00";
     std::cout << (terminal ? "\r" : "") << "sweep: " << finished << "/" << todo.size() << " done, "
               << failed << " failed, " << running.size() << " running, " << left - running.size()
