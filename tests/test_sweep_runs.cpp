@@ -203,3 +203,48 @@ TEST_CASE("bad sweep input is refused before any run starts", "[sweep]") {
   refused("parameters:\n  dx: {key: bodies.block.spacing, values: [0.001]}\n", "--shard 3/2",
           "--shard 3/2: expected I/N with 1 <= I <= N");
 }
+
+TEST_CASE("a run whose case is rejected is failed with the case's message", "[sweep]") {
+  const auto dir = fresh_dir("sweep-reject");
+  write_sweep_base(dir);
+  // A negative spacing passes the sweep's checks (the key exists) but not the case loader's.
+  const std::string sweep = write_file(dir / "dx.yaml", R"(base: base.yaml
+parameters:
+  dx: {key: bodies.block.spacing, values: [0.002, -0.002]}
+)");
+  const auto r = run_ckpd("sweep " + sweep + " --out " + (dir / "out").string() + " --quiet");
+  CHECK(r.exit_code == 4);
+  const auto rows = read_sweep(dir / "out");
+  REQUIRE(rows.size() == 2);
+  CHECK(rows[0].at("status") == "completed");
+  CHECK(rows[1].at("status") == "failed");
+  CHECK_THAT(rows[1].at("message"), Catch::Contains("exit status 2: "));
+  CHECK_THAT(rows[1].at("message"), Catch::Contains("bodies[0].spacing"));
+}
+
+TEST_CASE("resume finds finished runs by their key when values are added to the sweep", "[sweep]") {
+  const auto dir = fresh_dir("sweep-edit");
+  write_sweep_base(dir);
+  const fs::path out = dir / "out";
+  auto sweep_with = [&](const std::string& values) {
+    return write_file(dir / "s.yaml",
+                      "base: base.yaml\nparameters:\n  dx: {key: "
+                      "bodies.block.spacing, values: " +
+                          values + "}\n");
+  };
+  REQUIRE(run_ckpd("sweep " + sweep_with("[0.001, 0.002]") + " --out " + out.string() + " --quiet")
+              .exit_code == 0);
+  const auto first = read_sweep(out);
+  const auto r =
+      run_ckpd("sweep " + sweep_with("[0.0025, 0.001, 0.002]") + " --out " + out.string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.output, Catch::Contains("2 done earlier, 1 to run"));
+  const auto rows = read_sweep(out);
+  REQUIRE(rows.size() == 3);
+  // The run of 0.001 moved from index 0 to 1: same key, its folder renamed, not rerun.
+  CHECK(rows[1].at("hash") == first[0].at("hash"));
+  CHECK(rows[1].at("wall_seconds") != "");
+  CHECK(fs::exists(out / rows[1].at("folder") / "summary.json"));
+  CHECK_FALSE(fs::exists(out / first[0].at("folder")));
+}
