@@ -94,7 +94,7 @@ class Study:
 
 
 def _fmt(v):
-    return f"{v:.6g}" if isinstance(v, float) else str(v)
+    return f"{v:.4g}" if isinstance(v, float) else str(v)
 
 
 def _parse(v):
@@ -452,8 +452,15 @@ def write_csv(study):
         w = csv.DictWriter(f, fieldnames=FIELDS)
         w.writeheader()
         for r in study.rows:
-            w.writerow({k: _fmt(v) if isinstance(v, float) else v for k, v in r.items()})
+            w.writerow({k: f"{v:.8g}" if isinstance(v, float) else v for k, v in r.items()})
     study.log(f"wrote {path}")
+    md = os.path.join(study.out, "study.md")
+    with open(md, "w") as f:
+        f.write("| problem | family | m | constants | dx (m) | quantity | measured | reference "
+                "| error | wall s | points | steps |\n" + "|---" * 12 + "|\n")
+        for r in study.rows:
+            f.write("| " + " | ".join(_fmt(r[k]) if isinstance(r[k], float) else str(r[k])
+                                      for k in FIELDS[:-1]) + " |\n")
 
 
 def plot(study):
@@ -582,7 +589,8 @@ def main():
                 for r in csv.DictReader(f):
                     study.rows.append({k: _parse(v) for k, v in r.items()})
         write_csv(study)
-        plot(study)
+        if not args.no_plots:
+            plot(study)
         return 1 if args.check and check(study) else 0
     problems = {"patch": patch, "waves": waves, "energy": energy, "spheres": spheres,
                 "mode1": mode1, "kalthoff": kalthoff}
