@@ -513,7 +513,7 @@ def plot(study):
                     ax.loglog(xs, ys, style, label=key)
                     for r, x, y in zip(rs, xs, ys):
                         if r["dx"] != "":
-                            ax.annotate(f"{r['dx'] * 1e3:g}", (x, y), fontsize=6, xytext=(2, 2),
+                            ax.annotate(f"{r['dx'] * 1e3:.3g}", (x, y), fontsize=6, xytext=(2, 2),
                                         textcoords="offset points")
                 ax.set_xlabel("wall seconds (1 thread unless noted)")
                 ax.set_ylabel({"balance": "max |energy error| / initial kinetic energy",
