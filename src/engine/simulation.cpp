@@ -135,6 +135,7 @@ Simulation::Simulation(Scene& scene) : scene_(scene) {
   // No material point of a stable run moves at ten times the fastest wave or load speed.
   speed_limit_ = 10 * max_speed;
   for (const SceneBody& sb : scene_.bodies) initially_failed_.push_back(failed_bond_count(sb.body));
+  inverted_.assign(scene_.bodies.size(), 0);
   contact_ = make_contact_manager(scene_);
   evaluate_forces(true);
   const Energies e = energies();
@@ -158,7 +159,8 @@ void Simulation::evaluate_forces(bool with_energy) {
     dissipated[index] = fail_overstretched_bonds(b).dissipated;
     // Each bond, triangle and tetrahedron once (the per-point kernel in internal_force.hpp is the
     // reference it is tested against).
-    compute_internal_force_symmetric(b, with_energy);
+    const SymmetricKernelStats stats = compute_internal_force_symmetric(b, with_energy);
+    if (with_energy) inverted_[index] = stats.inverted_tetrahedra + stats.inverted_triangles;
     const std::size_t n = b.size();
 #pragma omp parallel for schedule(static) if (n > kParallelPoints)
     for (std::size_t i = 0; i < n; ++i) b.force_density[i] += b.external_force_density[i];
@@ -176,6 +178,12 @@ void Simulation::evaluate_forces(bool with_energy) {
   for (std::size_t k = 0; k < bodies; ++k) {
     dissipated_ += dissipated[k];
     if (with_energy) strain_energy_ += strain[k];
+  }
+  if (with_energy) {
+    max_inverted_ = std::max(max_inverted_, inverted());
+    for (std::size_t k = 0; k < bodies && first_inversion_.step < 0; ++k)
+      if (inverted_[k] > 0)
+        first_inversion_ = {step_, time_, scene_.bodies[k].body.name, inverted_[k]};
   }
   body_force_seconds_ +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -345,6 +353,12 @@ std::size_t Simulation::broken_bonds(std::size_t body) const {
 std::size_t Simulation::broken_bonds() const {
   std::size_t total = 0;
   for (std::size_t b = 0; b < scene_.bodies.size(); ++b) total += broken_bonds(b);
+  return total;
+}
+
+std::uint64_t Simulation::inverted() const {
+  std::uint64_t total = 0;
+  for (std::uint64_t n : inverted_) total += n;
   return total;
 }
 

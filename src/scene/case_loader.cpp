@@ -146,6 +146,11 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
     def.degenerate_fraction = f->as_positive();
     if (def.degenerate_fraction >= 1) f->fail("a fraction in (0, 1)");
   }
+  if (auto f = n.optional("inversion_penalty")) {
+    // Energy penalty on inverted tetrahedra (triangles in 2D): BodyDefinition::inversion_penalty.
+    def.inversion_penalty = f->as_double();
+    if (!(def.inversion_penalty >= 0)) f->fail("a penalty factor >= 0 (0: off, 1: signed volume)");
+  }
   // constants: analytic (MODEL.md section 3, default) or calibrated to the lattice's patch test
   // (bodies/patch_test.hpp: exact bulk and uniaxial-strain moduli for this spacing and m).
   bool calibrated = false;
