@@ -248,3 +248,59 @@ TEST_CASE("resume finds finished runs by their key when values are added to the 
   CHECK(fs::exists(out / rows[1].at("folder") / "summary.json"));
   CHECK_FALSE(fs::exists(out / first[0].at("folder")));
 }
+
+TEST_CASE(
+    "a sweep stopped by SIGTERM marks its runs interrupted and continues them from "
+    "their checkpoints",
+    "[sweep]") {
+  const auto dir = fresh_dir("sweep-term");
+  write_sweep_base(dir);
+  const std::string sweep = write_file(dir / "s.yaml", R"(base: base.yaml
+set: {time.steps: 1500}
+parameters:
+  dx: {key: bodies.block.spacing, values: [0.001, 0.002]}
+)");
+  const fs::path out = dir / "out";
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    const int null = open("/dev/null", O_WRONLY);
+    dup2(null, STDOUT_FILENO);
+    dup2(null, STDERR_FILENO);
+    execl(CKPD_BINARY, CKPD_BINARY, "sweep", sweep.c_str(), "--out", out.c_str(), "--jobs", "1",
+          "--threads-per-run", "1", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Wait until the first run has written history rows past its first.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  auto history_rows = [&] {
+    int n = 0;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(out, ec))
+      if (fs::exists(e.path() / "history.csv")) {
+        std::ifstream in(e.path() / "history.csv");
+        for (std::string line; std::getline(in, line);) ++n;
+      }
+    return n;
+  };
+  while ((!fs::exists(out) || history_rows() < 5) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 130);
+  const auto rows = read_sweep(out);
+  REQUIRE(rows.size() == 2);
+  CHECK(rows[0].at("status") == "interrupted");
+  CHECK(rows[1].at("status") == "pending");
+  CHECK(fs::exists(out / rows[0].at("folder") / "checkpoint.h5"));
+
+  const auto r = run_ckpd("sweep " + sweep + " --out " + out.string() + " --quiet");
+  REQUIRE(r.exit_code == 0);
+  const auto summary = read_json(out / rows[0].at("folder") / "summary.json");
+  CHECK(summary["status"] == "completed");
+  CHECK(summary["steps"] == 1500);
+  CHECK(summary.contains("restarted_from"));
+  CHECK(count_status(out, "completed") == 2);
+}

@@ -91,6 +91,14 @@ bool finished_earlier(const fs::path& out, const Run& run) {
   return false;
 }
 
+// The folder holds an interrupted run of this key with its checkpoint.
+bool can_continue(const fs::path& folder, const Run& run) {
+  const auto summary = read_json(folder / "summary.json");
+  const auto record = read_json(folder / "sweep_run.json");
+  return summary && record && summary->value("status", "") == "interrupted" &&
+         record->value("hash", "") == run.hash && fs::is_regular_file(folder / "checkpoint.h5");
+}
+
 void collect_metrics(const Sweep& sweep, const nlohmann::json& summary, RunRecord& rec,
                      std::map<std::string, bool>& warned, bool quiet) {
   rec.metrics.assign(sweep.metrics.size(), "");
@@ -247,6 +255,9 @@ int run_sweep(const Sweep& sweep, const RunnerOptions& opt) {
       const Run& run = sweep.runs[mine[slot]];
       const fs::path folder = out / run.folder;
       fs::create_directories(folder);
+      // A run stopped by a signal (a sweep stopped, a job's time limit) left a checkpoint of
+      // this very case: continue from it rather than start over.
+      const bool resume = can_continue(folder, run);
       fs::remove(folder / "summary.json");
       write_run_record(folder, sweep, run);
       std::vector<std::string> args{program,
@@ -259,6 +270,10 @@ int run_sweep(const Sweep& sweep, const RunnerOptions& opt) {
       for (const std::string& o : run.overrides) {
         args.push_back("--set");
         args.push_back(o);
+      }
+      if (resume) {
+        args.push_back("--restart");
+        args.push_back((folder / "checkpoint.h5").string());
       }
       std::vector<char*> argv;
       for (std::string& a : args) argv.push_back(a.data());
