@@ -39,6 +39,13 @@ void check_definition(const BodyDefinition& d) {
     msg << who << "degenerate fraction must be in (0, 1), got " << d.degenerate_fraction;
   } else if (!(d.critical_stretch > 0)) {
     msg << who << "critical stretch must be positive, got " << d.critical_stretch;
+  } else if (!(d.inversion_penalty >= 0) || !std::isfinite(d.inversion_penalty)) {
+    msg << who << "inversion penalty must be a finite factor >= 0, got " << d.inversion_penalty;
+  } else if (d.inversion_penalty > 0 &&
+             (d.dimension == 3 ? d.constants.c3 == 0 : d.constants.c2 == 0)) {
+    msg << who << "an inversion penalty needs the " << (d.dimension == 3 ? "three" : "two")
+        << "-neighbour interactions, which this material does not have (C"
+        << (d.dimension == 3 ? "3" : "2") << " = 0 because lambda = mu)";
   } else if (d.dimension == 2 && d.constants.c3 != 0) {
     msg << who << "a 2D body has no three-neighbour interactions (C3 must be 0)";
   } else {
@@ -162,6 +169,7 @@ Body make_body(BodyDefinition def) {
   body.critical_stretch = def.critical_stretch;
   body.damage_enabled = std::isfinite(def.critical_stretch);
   body.degenerate_fraction = def.degenerate_fraction;
+  body.inversion_penalty = def.inversion_penalty;
   body.reference_position = std::move(def.reference_position);
   body.volume = std::move(def.volume);
   body.no_failure = std::move(def.no_failure);

@@ -50,6 +50,13 @@ struct BodyDefinition {
   // along a curve, turns the lattice's collinear and coplanar sets into slivers whose stiffness
   // (~ 1/size) throttles the stable step, and a larger value leaves them out as the lattice does.
   double degenerate_fraction = kDegenerateFraction;
+  // Inversion penalty factor F >= 0 (0: off). The CKPD energy uses |v| (|a|), so a tetrahedron
+  // (a 2D body's triangle) whose current signed volume has the opposite sign of its reference
+  // one resists no more than an upright one and is pushed on towards the mirror image. With F,
+  // each inverted ordered set adds psi = 2 F |C3| |v| (2D: 2 F |C2| |a|) to its energy; F = 1
+  // makes the energy that of the signed volume, C3 |V| (v/V - 1)^2 / 2, smooth through v = 0.
+  // Needs the three-neighbour family in 3D (nu != 1/4), the two-neighbour one in 2D.
+  double inversion_penalty = 0;
   std::vector<std::uint8_t> no_failure;  // empty, or one flag per point: its bonds never fail
   std::vector<Precrack> precracks;
 };
@@ -64,11 +71,12 @@ struct Body {
   double critical_stretch = std::numeric_limits<double>::infinity();
   bool damage_enabled = false;
   double degenerate_fraction = kDegenerateFraction;  // BodyDefinition::degenerate_fraction
+  double inversion_penalty = 0;                      // BodyDefinition::inversion_penalty
 
   // Reference data per point, fixed for the run.
   std::vector<Vec3> reference_position;
   std::vector<double> volume;
-  std::vector<double> beta;             // fullness of the family
+  std::vector<double> beta;  // fullness of the family
   // What the fullness looked like before any cap (reported in the setup and the summary).
   bool beta_cap = false;                // BodyDefinition::cap_beta
   std::size_t beta_capped_points = 0;   // points whose raw beta exceeded 1 (+1e-9) and was capped

@@ -88,6 +88,10 @@ struct Context {
   bool pairs = false, triples = false;
   double c1 = 0, c2 = 0, c3 = 0;
   double degenerate = kDegenerateFraction;  // the body's degenerate_fraction
+  // Inversion penalty in units of C (2 F |C| / C; 0: off), and whether triangles have an
+  // orientation (2D bodies: the z component of the area vector).
+  double pen2 = 0, pen3 = 0;
+  bool planar = false;
   // |A| > hi2 (|V| > hi3): non-degenerate for every vertex; < lo2 (lo3): degenerate for every
   // vertex; otherwise ask each vertex.
   double hi2 = 0, lo2 = 0, hi3 = 0, lo3 = 0;
@@ -231,29 +235,38 @@ std::size_t load_upper_family(const Context& ctx, std::size_t i, SymmetricKernel
 // more than the tests' 1e-12 (see kWellConditioned). Returns false when c sees the set as
 // degenerate. `w` is the term's share of W = W2/3 (W3/4).
 bool reference_triangle_term(const Context& ctx, std::uint32_t c, std::uint32_t o1,
-                             std::uint32_t o2, Vec3& force, double& w) {
+                             std::uint32_t o2, Vec3& force, double& w, bool& inverted) {
   const Vec3 Xc = ctx.X[c];
   const Vec3 P = ctx.X[o1] - Xc, Q = ctx.X[o2] - Xc;
-  const double A = P.cross(Q).norm();
+  const Vec3 ref_area = P.cross(Q);
+  const double A = ref_area.norm();
   if (A <= ctx.degenerate * P.norm() * Q.norm()) return false;
   const Vec3 uc = ctx.u ? ctx.u[c] : Vec3::Zero();
   const Vec3 p = ctx.u ? Vec3(P + (ctx.u[o1] - uc)) : P;
   const Vec3 q = ctx.u ? Vec3(Q + (ctx.u[o2] - uc)) : Q;
   const Vec3 area = p.cross(q);
   const double an = area.norm();
-  const Vec3 g = area / A - (an > 0 ? Vec3(area / an) : Vec3::Zero());
-  const double dv2 = ctx.body->dv2[c];
-  force = (2 * ctx.c2 * dv2) * (q - p).cross(g);
+  // The reference's scalar form: (1/A - 1/|a|) a, plus pen2 a/|a| when inverted.
+  double f = 1 / A - (an > 0 ? 1 / an : 0.0);
   const double e = an / A - 1;
-  w = ctx.c2 * A * e * e * dv2 / 3;
+  double en = A * e * e;
+  inverted = ctx.planar && area.z() * ref_area.z() < 0;
+  if (inverted) {
+    f += ctx.pen2 / an;
+    en += 2 * ctx.pen2 * an;
+  }
+  const double dv2 = ctx.body->dv2[c];
+  force = (2 * ctx.c2 * dv2 * f) * (q - p).cross(area);
+  w = ctx.c2 * en * dv2 / 3;
   return true;
 }
 
 bool reference_tetrahedron_term(const Context& ctx, std::uint32_t c, std::uint32_t o1,
-                                std::uint32_t o2, std::uint32_t o3, Vec3& force, double& w) {
+                                std::uint32_t o2, std::uint32_t o3, Vec3& force, double& w,
+                                bool& inverted) {
   const Vec3 Xc = ctx.X[c];
   const Vec3 P = ctx.X[o1] - Xc, Q = ctx.X[o2] - Xc, R = ctx.X[o3] - Xc;
-  const double V = std::abs(P.dot(Q.cross(R)));
+  const double signed_V = P.dot(Q.cross(R)), V = std::abs(signed_V);
   if (V <= ctx.degenerate * P.norm() * Q.norm() * R.norm()) return false;
   const Vec3 uc = ctx.u ? ctx.u[c] : Vec3::Zero();
   const Vec3 p = ctx.u ? Vec3(P + (ctx.u[o1] - uc)) : P;
@@ -261,16 +274,23 @@ bool reference_tetrahedron_term(const Context& ctx, std::uint32_t c, std::uint32
   const Vec3 r = ctx.u ? Vec3(R + (ctx.u[o3] - uc)) : R;
   const Vec3 qr = q.cross(r), rp = r.cross(p), pq = p.cross(q);
   const double v = p.dot(qr), av = std::abs(v);
-  const double factor = v / V - sign(v);
+  double factor = v / V - sign(v);
+  const double e = av / V - 1;
+  double en = V * e * e;
+  inverted = v * signed_V < 0;
+  if (inverted) {
+    factor += ctx.pen3 * sign(v);
+    en += 2 * ctx.pen3 * av;
+  }
   const double dv3 = ctx.body->dv3[c];
   force = (6 * ctx.c3 * dv3 * factor) * (qr + rp + pq);
-  const double e = av / V - 1;
-  w = 3 * ctx.c3 * V * e * e * dv3 / 4;
+  w = 3 * ctx.c3 * en * dv3 / 4;
   return true;
 }
 
-// Force and energy from i's bonds, triangles and tetrahedra, added to thread t's arrays.
-template <bool kEnergy>
+// Force and energy from i's bonds, triangles and tetrahedra, added to thread t's arrays. With
+// kEnergy the inverted sets are counted; with kPenalty they get the inversion penalty.
+template <bool kEnergy, bool kPenalty>
 void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) {
   const std::size_t m = load_upper_family(ctx, i, t, ctx.pairs || ctx.triples);
   if (m == 0) return;
@@ -297,6 +317,7 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
   double* __restrict slot_w = t.w.data();
   std::uint64_t n_bonds = 0, n_triangles = 0, n_tetrahedra = 0;
   std::uint64_t n_triangles_per_vertex = 0, n_tetrahedra_per_vertex = 0;
+  std::uint64_t n_inverted_triangles = 0, n_inverted_tetrahedra = 0;
   double fix = 0, fiy = 0, fiz = 0, wi = 0;
   // Adds a per-vertex term to vertex 0 (i) or to a slot.
   auto add = [&](std::size_t slot, bool is_i, const Vec3& f, double w) {
@@ -370,11 +391,22 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
           if (A > ctx.well2) {
             const double an = std::sqrt(pq[0] * pq[0] + pq[1] * pq[1] + pq[2] * pq[2]);
             // (1/A - 1/|a|) a, finite for a collapsed triangle (as in the reference).
+            double fa = 1 / A - (an > 0 ? 1 / an : 0.0);
+            const double e = an / A - 1;
+            double en = A * e * e;
+            if constexpr (kEnergy || kPenalty) {
+              if (ctx.planar && pq[2] * RPQ[2] < 0) {  // inverted (2D: orientation is z)
+                if constexpr (kEnergy) ++n_inverted_triangles;
+                if constexpr (kPenalty) {
+                  fa += ctx.pen2 / an;
+                  en += 2 * ctx.pen2 * an;
+                }
+              }
+            }
             double g[3];
-            for (int d = 0; d < 3; ++d) g[d] = pq[d] / A - (an > 0 ? pq[d] / an : 0.0);
+            for (int d = 0; d < 3; ++d) g[d] = fa * pq[d];
             // d|a|/dx^c = G_c x n with G_i = p - q, G_j = q, G_k = -p, and
             // -2 C2 dV2 (|a|/A - 1) G_c x n = -2 C2 dV2 G_c x g.
-            const double e = an / A - 1, en = A * e * e;
             if (active & 1) {
               const double qp[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
               fix += k2i * (qp[1] * g[2] - qp[2] * g[1]);
@@ -400,19 +432,23 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
             const std::uint32_t vj = up[a], vk = up[b];
             Vec3 f;
             double w = 0;
-            bool seen = false;
-            if ((active & 1) && reference_triangle_term(ctx, ii, vj, vk, f, w)) {
+            bool seen = false, inverted = false, inv = false;
+            if ((active & 1) && reference_triangle_term(ctx, ii, vj, vk, f, w, inv)) {
               add(0, true, f, w);
               seen = true;
+              inverted |= inv;
             }
-            if ((active & 2) && reference_triangle_term(ctx, vj, ii, vk, f, w)) {
+            if ((active & 2) && reference_triangle_term(ctx, vj, ii, vk, f, w, inv)) {
               add(a, false, f, w);
               seen = true;
+              inverted |= inv;
             }
-            if ((active & 4) && reference_triangle_term(ctx, vk, ii, vj, f, w)) {
+            if ((active & 4) && reference_triangle_term(ctx, vk, ii, vj, f, w, inv)) {
               add(b, false, f, w);
               seen = true;
+              inverted |= inv;
             }
+            if constexpr (kEnergy) n_inverted_triangles += inverted;
             n_triangles += seen;
             n_triangles_per_vertex += seen;
           }
@@ -436,14 +472,24 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
         double Sk[3] = {0, 0, 0}, Ek = 0;
         bool any = false;
         // A well-conditioned tetrahedron with some vertices inactive: vertex by vertex.
-        auto partial = [&](std::size_t c, unsigned mask, double V) {
+        auto partial = [&](std::size_t c, unsigned mask, double signed_V) {
+          const double V = std::abs(signed_V);
           const double r[3] = {rx[c], ry[c], rz[c]};
           const double v = pq[0] * r[0] + pq[1] * r[1] + pq[2] * r[2];
-          const double f = v / V - sign(v);
+          double f = v / V - sign(v);
           double en = 0;
           if constexpr (kEnergy) {
             const double e = std::abs(v) / V - 1;
             en = V * e * e;
+          }
+          if constexpr (kEnergy || kPenalty) {
+            if (v * signed_V < 0) {
+              if constexpr (kEnergy) ++n_inverted_tetrahedra;
+              if constexpr (kPenalty) {
+                f += ctx.pen3 * sign(v);
+                if constexpr (kEnergy) en += 2 * ctx.pen3 * std::abs(v);
+              }
+            }
           }
           if (mask & 1) {
             for (int d = 0; d < 3; ++d) Si[d] += f * r[d];
@@ -474,23 +520,28 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
           const std::uint32_t vj = up[a], vk = up[b], vl = up[c];
           Vec3 f;
           double w = 0;
-          bool seen = false;
-          if ((active & 1) && reference_tetrahedron_term(ctx, ii, vj, vk, vl, f, w)) {
+          bool seen = false, inverted = false, inv = false;
+          if ((active & 1) && reference_tetrahedron_term(ctx, ii, vj, vk, vl, f, w, inv)) {
             add(0, true, f, w);
             seen = true;
+            inverted |= inv;
           }
-          if ((active & 2) && reference_tetrahedron_term(ctx, vj, ii, vk, vl, f, w)) {
+          if ((active & 2) && reference_tetrahedron_term(ctx, vj, ii, vk, vl, f, w, inv)) {
             add(a, false, f, w);
             seen = true;
+            inverted |= inv;
           }
-          if ((active & 4) && reference_tetrahedron_term(ctx, vk, ii, vj, vl, f, w)) {
+          if ((active & 4) && reference_tetrahedron_term(ctx, vk, ii, vj, vl, f, w, inv)) {
             add(b, false, f, w);
             seen = true;
+            inverted |= inv;
           }
-          if ((active & 8) && reference_tetrahedron_term(ctx, vl, ii, vj, vk, f, w)) {
+          if ((active & 8) && reference_tetrahedron_term(ctx, vl, ii, vj, vk, f, w, inv)) {
             add(c, false, f, w);
             seen = true;
+            inverted |= inv;
           }
+          if constexpr (kEnergy) n_inverted_tetrahedra += inverted;
           n_tetrahedra += seen;
           n_tetrahedra_per_vertex += seen;
         };
@@ -503,14 +554,25 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
           std::uint64_t part = cand & (mi | mj | mk | ml) & ~full;
           for (; full; full &= full - 1) {
             const std::size_t c = wc * 64 + static_cast<std::size_t>(std::countr_zero(full));
-            const double V = std::abs(RPQ[0] * Rx[c] + RPQ[1] * Ry[c] + RPQ[2] * Rz[c]);
+            const double signed_V = RPQ[0] * Rx[c] + RPQ[1] * Ry[c] + RPQ[2] * Rz[c];
+            const double V = std::abs(signed_V);
             if (!(V > ctx.well3)) {  // rare on lattices; degenerate sets end here
               if (V >= ctx.lo3) separate(c, 15);
               continue;
             }
             const double r[3] = {rx[c], ry[c], rz[c]};
             const double v = pq[0] * r[0] + pq[1] * r[1] + pq[2] * r[2];
-            const double f = v / V - sign(v);
+            double f = v / V - sign(v);
+            double pen_en = 0;  // the penalty's share of the energy, V e^2 units
+            if constexpr (kEnergy || kPenalty) {
+              if (v * signed_V < 0) {
+                if constexpr (kEnergy) ++n_inverted_tetrahedra;
+                if constexpr (kPenalty) {
+                  f += ctx.pen3 * sign(v);
+                  pen_en = 2 * ctx.pen3 * std::abs(v);
+                }
+              }
+            }
             S[0] += f * r[0];
             S[1] += f * r[1];
             S[2] += f * r[2];
@@ -521,7 +583,7 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
             fz[c] -= kl * pq[2];
             if constexpr (kEnergy) {
               const double e = std::abs(v) / V - 1;
-              const double en = V * e * e;
+              const double en = V * e * e + pen_en;
               E += en;
               slot_w[c] += e3[c] * en;
             }
@@ -530,12 +592,13 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
           }
           for (; part; part &= part - 1) {
             const std::size_t c = wc * 64 + static_cast<std::size_t>(std::countr_zero(part));
-            const double V = std::abs(RPQ[0] * Rx[c] + RPQ[1] * Ry[c] + RPQ[2] * Rz[c]);
+            const double signed_V = RPQ[0] * Rx[c] + RPQ[1] * Ry[c] + RPQ[2] * Rz[c];
+            const double V = std::abs(signed_V);
             const unsigned active =
                 unsigned((mi >> (c & 63)) & 1) | unsigned((mj >> (c & 63)) & 1) << 1 |
                 unsigned((mk >> (c & 63)) & 1) << 2 | unsigned((ml >> (c & 63)) & 1) << 3;
             if (V > ctx.well3) {
-              partial(c, active, V);
+              partial(c, active, signed_V);
             } else if (V >= ctx.lo3) {
               separate(c, active);
             }
@@ -577,6 +640,8 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
   t.stats.tetrahedra += n_tetrahedra;
   t.stats.triangles_per_vertex += n_triangles_per_vertex;
   t.stats.tetrahedra_per_vertex += n_tetrahedra_per_vertex;
+  t.stats.inverted_triangles += n_inverted_triangles;
+  t.stats.inverted_tetrahedra += n_inverted_tetrahedra;
   // Flush: i's own sum and every slot's share into this thread's whole-body arrays.
   t.force[i] += Vec3(fix, fiy, fiz);
   if constexpr (kEnergy) t.energy[i] += wi;
@@ -600,6 +665,10 @@ Context make_context(const Body& body) {
   ctx.c2 = body.constants.c2;
   ctx.c3 = body.constants.c3;
   ctx.degenerate = body.degenerate_fraction;
+  const double F = body.inversion_penalty;
+  ctx.pen2 = ctx.c2 != 0 ? 2 * F * (ctx.c2 > 0 ? 1.0 : -1.0) : 0.0;
+  ctx.pen3 = ctx.c3 != 0 ? 2 * F * (ctx.c3 > 0 ? 1.0 : -1.0) : 0.0;
+  ctx.planar = body.dimension == 2;
   return ctx;
 }
 
@@ -654,12 +723,19 @@ SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_ener
 #pragma omp single
       set_screens(ctx, std::sqrt(min_length2));
     }
-    if (with_energy) {
+    const bool penalty = ctx.pen2 != 0 || ctx.pen3 != 0;
+    if (with_energy && penalty) {
 #pragma omp for schedule(static, kChunk)
-      for (std::size_t i = 0; i < n; ++i) process_point<true>(ctx, i, th);
+      for (std::size_t i = 0; i < n; ++i) process_point<true, true>(ctx, i, th);
+    } else if (with_energy) {
+#pragma omp for schedule(static, kChunk)
+      for (std::size_t i = 0; i < n; ++i) process_point<true, false>(ctx, i, th);
+    } else if (penalty) {
+#pragma omp for schedule(static, kChunk)
+      for (std::size_t i = 0; i < n; ++i) process_point<false, true>(ctx, i, th);
     } else {
 #pragma omp for schedule(static, kChunk)
-      for (std::size_t i = 0; i < n; ++i) process_point<false>(ctx, i, th);
+      for (std::size_t i = 0; i < n; ++i) process_point<false, false>(ctx, i, th);
     }
     // Fixed-order reduction: thread 0, 1, ... for every point.
 #pragma omp for schedule(static)
@@ -682,14 +758,16 @@ SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_ener
     stats.tetrahedra += x.tetrahedra;
     stats.triangles_per_vertex += x.triangles_per_vertex;
     stats.tetrahedra_per_vertex += x.tetrahedra_per_vertex;
+    stats.inverted_triangles += x.inverted_triangles;
+    stats.inverted_tetrahedra += x.inverted_tetrahedra;
   }
   return stats;
 }
 
-void compute_internal_force_symmetric(Body& body, bool with_energy) {
+SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_energy) {
   // One workspace per calling thread: two host threads may evaluate two bodies at once.
   thread_local SymmetricKernelWorkspace workspace;
-  compute_internal_force_symmetric(body, with_energy, workspace);
+  return compute_internal_force_symmetric(body, with_energy, workspace);
 }
 
 void count_interactions_symmetric(const Body& body, std::vector<std::uint32_t>& n2,

@@ -32,6 +32,10 @@ struct SymmetricKernelStats {
   // Of those, the ill-conditioned ones (slivers) evaluated vertex by vertex.
   std::uint64_t triangles_per_vertex = 0;
   std::uint64_t tetrahedra_per_vertex = 0;
+  // Counted only in evaluations with energy: evaluated sets whose current signed volume has the
+  // sign opposite to the reference one (tetrahedra), or signed area (triangles of 2D bodies).
+  std::uint64_t inverted_triangles = 0;
+  std::uint64_t inverted_tetrahedra = 0;
 };
 
 struct SymmetricKernelThread;  // per-thread scratch, defined in the .cpp
@@ -55,7 +59,8 @@ class SymmetricKernelWorkspace {
 // body.force_density = b1 + b2 + b3 (overwritten); with `with_energy`, also
 // body.strain_energy_density = W1/2 + W2/3 + W3/4. Same contract as compute_internal_force.
 // This overload keeps its scratch in a workspace private to the calling (host) thread.
-void compute_internal_force_symmetric(Body& body, bool with_energy);
+// body.inversion_penalty adds the inversion penalty exactly as compute_internal_force does.
+SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_energy);
 SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_energy,
                                                       SymmetricKernelWorkspace& workspace);
 

@@ -107,6 +107,15 @@ int run(const RunOptions& opt) {
     return j;
   };
   ProgressReporter progress(!opt.quiet, total);
+  // Model breakdown (inverted tetrahedra/triangles) is reported once, when first seen.
+  bool inversion_reported = false;
+  auto report_inversion = [&] {
+    if (inversion_reported || sim.first_inversion().step < 0) return;
+    inversion_reported = true;
+    progress.finish();
+    std::cerr << "ckpd: warning: " << inversion_warning(sim) << '\n';
+  };
+  report_inversion();
   try {
     while (sim.step() < total) {
       const long long next = sim.step() + 1;
@@ -115,6 +124,7 @@ int run(const RunOptions& opt) {
       const bool frame = frame_due(next, static_cast<double>(next) * dt) || (fields && last);
       sim.advance(row || (frame && fields->needs_energy()));
       if (row) history.write_row(sim);
+      report_inversion();
       if (frame) fields->write_frame(sim);
       progress.update(sim);
       const bool interval_checkpoint = scene.output.checkpoint_interval > 0 &&

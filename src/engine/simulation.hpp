@@ -1,6 +1,7 @@
 #pragma once
 // Velocity-Verlet time integration of all bodies (MODEL.md section 6), the stable-step choice,
 // energy bookkeeping and the instability guard.
+#include <cstdint>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -42,6 +43,17 @@ struct Energies {
   double balance_error = 0;
 };
 
+// Where model breakdown was first seen: inverted tetrahedra (3D) or triangles (2D bodies),
+// whose current signed volume (area) has the sign opposite to the reference one. The energy
+// uses |v|, so an inverted set resists no more than an upright one (Body::inversion_penalty).
+// Counted in every evaluation with energy (history rows and field frames), not every step.
+struct InversionRecord {
+  long long step = -1;  // -1: none seen so far
+  double time = 0;
+  std::string body;
+  std::uint64_t count = 0;  // that body's inverted sets then
+};
+
 class Simulation {
  public:
   explicit Simulation(Scene& scene);
@@ -61,6 +73,12 @@ class Simulation {
   std::size_t broken_bonds(std::size_t body) const;
   std::size_t precracked_bonds(std::size_t body) const { return initially_failed_[body]; }
   double max_damage() const;
+  // Inverted sets (each unordered tetrahedron or triangle once) as of the last evaluation with
+  // energy: all bodies, or body b; the largest total seen; and the first sighting.
+  std::uint64_t inverted() const;
+  std::uint64_t inverted(std::size_t body) const { return inverted_[body]; }
+  std::uint64_t max_inverted() const { return max_inverted_; }
+  const InversionRecord& first_inversion() const { return first_inversion_; }
   double speed_limit() const { return speed_limit_; }
   const Scene& scene() const { return scene_; }
   // Null when the scene has no contact work (contact_coupling.hpp).
@@ -93,6 +111,9 @@ class Simulation {
   double strain_energy_ = 0;
   double initial_total_ = 0;
   std::vector<std::size_t> initially_failed_;
+  std::vector<std::uint64_t> inverted_;
+  std::uint64_t max_inverted_ = 0;
+  InversionRecord first_inversion_;
   double speed_limit_ = 0;
   std::unique_ptr<ContactManager> contact_;
   double body_force_seconds_ = 0;

@@ -4,20 +4,21 @@
 
 #include <algorithm>
 #include <iomanip>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
 
 #include "bodies/damage.hpp"
 #include "bodies/fragments.hpp"
 #include "src/output/beta_report.hpp"
 #include "src/output/contact_summary.hpp"
-#include <stdexcept>
-#include <vector>
 
 namespace ckpd {
 
 HistoryWriter::HistoryWriter(const std::string& path, long long resume_after_step) : path_(path) {
   const char* header =
       "step,time,kinetic,strain,contact,external_work,dissipated,balance_error,broken_bonds,"
-      "max_damage";
+      "max_damage,inverted";
   std::vector<std::string> kept;
   if (resume_after_step >= 0) {
     std::ifstream in(path);
@@ -41,8 +42,9 @@ HistoryWriter::HistoryWriter(const std::string& path, long long resume_after_ste
 void HistoryWriter::write_row(const Simulation& sim) {
   const Energies e = sim.energies();
   out_ << std::setprecision(10) << sim.step() << ',' << sim.time() << ',' << e.kinetic << ','
-       << e.strain << ',' << e.contact << ',' << e.external_work << ',' << e.dissipated << ',' << e.balance_error << ','
-       << sim.broken_bonds() << ',' << sim.max_damage() << '\n';
+       << e.strain << ',' << e.contact << ',' << e.external_work << ',' << e.dissipated << ','
+       << e.balance_error << ',' << sim.broken_bonds() << ',' << sim.max_damage() << ','
+       << sim.inverted() << '\n';
   out_.flush();
   if (!out_) throw std::runtime_error(path_ + ": writing the history failed");
 }
@@ -51,6 +53,35 @@ double peak_rss_mb() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+std::string inversion_warning(const Simulation& sim) {
+  const InversionRecord& r = sim.first_inversion();
+  if (r.step < 0) return "";
+  const char* what = "tetrahedra";
+  for (const SceneBody& sb : sim.scene().bodies)
+    if (sb.body.name == r.body && sb.body.dimension == 2) what = "triangles";
+  std::ostringstream msg;
+  msg << "model breakdown: " << r.count << " inverted " << what << " in body '" << r.body
+      << "' first seen at step " << r.step << ", t = " << r.time
+      << " s (counted on history rows): an inverted set resists no more than an upright one "
+         "(the energy uses |v|); results past this point are outside the model unless the body "
+         "sets inversion_penalty";
+  return msg.str();
+}
+
+nlohmann::ordered_json inversion_summary(const Simulation& sim) {
+  const InversionRecord& r = sim.first_inversion();
+  nlohmann::ordered_json j;
+  j["final"] = sim.inverted();
+  j["max"] = sim.max_inverted();
+  if (r.step >= 0) {
+    j["first"] = {{"step", r.step}, {"time", r.time}, {"body", r.body}, {"count", r.count}};
+    j["warning"] = inversion_warning(sim);
+  } else {
+    j["first"] = nullptr;
+  }
+  return j;
 }
 
 nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& status,
@@ -75,23 +106,26 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
     std::vector<std::size_t> sizes = fragments.size;
     std::sort(sizes.rbegin(), sizes.rend());
     if (sizes.size() > 10) sizes.resize(10);
-    bodies.push_back({{"name", b.name},
-                      {"dimension", b.dimension},
-                      {"points", b.size()},
-                      {"bonds", b.bond_count()},
-                      {"two_neighbour", b.total_two_neighbour()},
-                      {"three_neighbour", b.total_three_neighbour()},
-                      {"spacing", sb.spacing},
-                      {"horizon", b.horizon},
-                      {"critical_stretch", b.damage_enabled ? nlohmann::ordered_json(b.critical_stretch)
-                                                            : nlohmann::ordered_json(nullptr)},
-                      {"precracked_bonds", sim.precracked_bonds(index)},
-                      {"broken_bonds", sim.broken_bonds(index)},
-                      {"max_damage", b.damage_enabled ? max_point_damage(b) : 0.0},
-                      {"beta", beta_summary(b)},
-                      // Connected components of intact bonds; single points count.
-                      {"fragments", fragments.count()},
-                      {"largest_fragments", sizes}});
+    bodies.push_back(
+        {{"name", b.name},
+         {"dimension", b.dimension},
+         {"points", b.size()},
+         {"bonds", b.bond_count()},
+         {"two_neighbour", b.total_two_neighbour()},
+         {"three_neighbour", b.total_three_neighbour()},
+         {"spacing", sb.spacing},
+         {"horizon", b.horizon},
+         {"critical_stretch", b.damage_enabled ? nlohmann::ordered_json(b.critical_stretch)
+                                               : nlohmann::ordered_json(nullptr)},
+         {"precracked_bonds", sim.precracked_bonds(index)},
+         {"broken_bonds", sim.broken_bonds(index)},
+         {"max_damage", b.damage_enabled ? max_point_damage(b) : 0.0},
+         {"beta", beta_summary(b)},
+         {"inversion_penalty", b.inversion_penalty},
+         {"inverted", sim.inverted(index)},
+         // Connected components of intact bonds; single points count.
+         {"fragments", fragments.count()},
+         {"largest_fragments", sizes}});
   }
   j["points"] = points;
   j["bonds"] = bonds;
@@ -109,12 +143,10 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
   j["max_damage"] = sim.max_damage();
   j["broken_bonds"] = sim.broken_bonds();
   const Energies e = sim.energies();
-  j["energy"] = {{"kinetic", e.kinetic},
-                 {"strain", e.strain},
-                 {"contact", e.contact},
-                 {"external_work", e.external_work},
-                 {"dissipated", e.dissipated},
-                 {"balance_error", e.balance_error}};
+  j["energy"] = {{"kinetic", e.kinetic},       {"strain", e.strain},
+                 {"contact", e.contact},       {"external_work", e.external_work},
+                 {"dissipated", e.dissipated}, {"balance_error", e.balance_error}};
+  j["inversion"] = inversion_summary(sim);
   j["bodies"] = bodies;
   j["contact"] = contact_summary(sim);
   return j;

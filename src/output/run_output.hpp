@@ -25,6 +25,11 @@ class HistoryWriter {
 // Peak resident set size of this process in MB.
 double peak_rss_mb();
 
+// The first sighting of inverted tetrahedra/triangles as a warning naming step, time and body
+// ("" when none was seen), and the summary's "inversion" object (final, max, first, warning).
+std::string inversion_warning(const Simulation& sim);
+nlohmann::ordered_json inversion_summary(const Simulation& sim);
+
 // The summary object: status ("completed", "unstable", ...), counts, time step, energies.
 nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& status,
                                     const std::string& message, double wall_seconds);
