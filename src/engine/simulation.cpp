@@ -167,10 +167,16 @@ void Simulation::evaluate_forces(bool with_energy) {
     if (with_energy) strain[index] = strain_energy(b);
   };
   // Small bodies side by side, one per thread (the parallel regions of their kernels, nested,
-  // run on that thread alone); large ones one after another, each with every thread.
+  // run on that thread alone); large ones one after another, each with every thread. Rigid
+  // bodies only copy their loads and do not count: one small deformable body beside a rigid
+  // indenter gets every thread for its kernel (bench/lammps_compare.sh: it ran on one).
   std::vector<std::size_t> small, large;
-  for (std::size_t k = 0; k < bodies; ++k)
-    (scene_.bodies[k].body.size() < kParallelPoints ? small : large).push_back(k);
+  for (std::size_t k = 0; k < bodies; ++k) {
+    if (scene_.bodies[k].rigid)
+      own_forces(k);
+    else
+      (scene_.bodies[k].body.size() < kParallelPoints ? small : large).push_back(k);
+  }
 #pragma omp parallel for schedule(dynamic) if (small.size() > 1)
   for (std::size_t k = 0; k < small.size(); ++k) own_forces(small[k]);
   for (std::size_t k : large) own_forces(k);
