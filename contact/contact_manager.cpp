@@ -67,7 +67,16 @@ ContactManager::ContactManager(std::vector<ContactBody> bodies, ContactSettings 
   drift_limit_.assign(n, 0);
   std::vector<double> widest_radius(n, 0);
   std::vector<std::uint8_t> member(n, 0);
+  std::vector<MeshWallContact::Pair> wall_pairs;
   for (std::size_t a = 0; a < n; ++a) {
+    if (bodies_[a].wall) {
+      // A wall meets the points of its partners, never another wall's surface.
+      for (std::size_t b = 0; b < n; ++b)
+        if (b != a && !bodies_[b].wall)
+          if (const auto law = settings_.law(bodies_, std::min(a, b), std::max(a, b)))
+            wall_pairs.push_back({b, a, law->radius, law->coefficient[b < a ? 0 : 1]});
+      continue;
+    }
     if (const auto self = settings_.law(bodies_, a, a)) {
       Pair p;
       p.body[0] = p.body[1] = static_cast<std::uint32_t>(a);
@@ -79,6 +88,7 @@ ContactManager::ContactManager(std::vector<ContactBody> bodies, ContactSettings 
       self_pairs_.push_back(std::move(p));
     }
     for (std::size_t b = a + 1; b < n; ++b) {
+      if (bodies_[b].wall) continue;
       const auto law = settings_.law(bodies_, a, b);
       if (!law) continue;
       member[a] = member[b] = 1;
@@ -99,6 +109,8 @@ ContactManager::ContactManager(std::vector<ContactBody> bodies, ContactSettings 
   }
   built_displacement_.resize(n);
   if (members_.size() >= 2) broad_ = std::make_unique<BroadPhase>(members_);
+  if (!wall_pairs.empty())
+    walls_ = std::make_unique<MeshWallContact>(bodies_, std::move(wall_pairs));
 }
 
 ContactManager::~ContactManager() = default;
@@ -277,9 +289,17 @@ void ContactManager::add_forces() {
     stats_.point_pair_tests += target_tests_[t];
   }
   stats_.points_in_contact = contacts / 2;
+  std::size_t wall_touching = 0;
+  if (walls_) {
+    walls_->add_forces();
+    energy_ += walls_->energy();
+    stats_.points_in_contact += walls_->points_in_contact();
+    for (std::size_t k = 0; k < walls_->pairs(); ++k) wall_touching += walls_->pair_touching(k);
+  }
   stats_.points_in_contact_peak = std::max(stats_.points_in_contact_peak, stats_.points_in_contact);
-  stats_.touching_pairs = static_cast<std::size_t>(
-      std::count(pair_touching_.begin(), pair_touching_.end(), std::uint8_t{1}));
+  stats_.touching_pairs =
+      wall_touching + static_cast<std::size_t>(std::count(pair_touching_.begin(),
+                                                          pair_touching_.end(), std::uint8_t{1}));
   stats_.touching_pairs_peak = std::max(stats_.touching_pairs_peak, stats_.touching_pairs);
   stats_.candidate_pairs = all_pairs_.size();
   stats_.candidate_pairs_peak = std::max(stats_.candidate_pairs_peak, stats_.candidate_pairs);

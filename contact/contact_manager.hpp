@@ -14,6 +14,9 @@
 // the thread count; the two sides of a point pair compute the same r and the same scalar, so
 // their forces are exactly opposite when the pair uses one coefficient.
 //
+// Mesh walls (ContactBody::wall) take no part in either phase: their partners' points meet
+// their surfaces in MeshWallContact, whose forces and energy are added here.
+//
 // Self-contact: a body's own points that are not joined by an intact bond repel with the same
 // law (fragments of a broken body must not pass through each other).
 #include <cstdint>
@@ -23,6 +26,7 @@
 
 #include "contact/broad_phase.hpp"
 #include "contact/contact_settings.hpp"
+#include "contact/mesh_wall_contact.hpp"
 #include "contact/point_grid.hpp"
 
 namespace ckpd {
@@ -71,6 +75,7 @@ class ContactManager {
   std::vector<double> margin_;        // per body: box inflation, half of the widest l_c + skin
   std::vector<double> drift_limit_;   // per body: how far a point may move between builds
   std::unique_ptr<BroadPhase> broad_;
+  std::unique_ptr<MeshWallContact> walls_;             // pairs with a mesh wall; null without any
   std::vector<std::vector<Vec3>> built_displacement_;  // per member body, at the last build
   std::vector<Pair> self_pairs_;
   std::vector<Pair> pairs_;

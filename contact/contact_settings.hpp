@@ -11,12 +11,17 @@
 
 namespace ckpd {
 
+class MeshWall;
+
 // What contact needs to know of a body besides its points.
 struct ContactBody {
   Body* body = nullptr;
   double spacing = 0;       // lattice spacing dx: bounds how densely its points can sit
   bool rigid = false;       // no horizon of its own (Body::horizon is 0)
   bool prescribed = false;  // its motion is imposed: two such bodies never interact
+  // A mesh wall (mesh_wall.hpp): its points are the six carriers of its motion, not contact
+  // points; its partners' points meet its surface instead.
+  const MeshWall* wall = nullptr;
 };
 
 // The default l_c over the larger lattice spacing of the two bodies. MODEL.md suggests about

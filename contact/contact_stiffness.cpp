@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <tuple>
 
 namespace ckpd {
@@ -55,6 +56,18 @@ std::vector<double> contact_stiffness_bounds(const ContactSettings& settings,
       const std::optional<PairLaw> law = settings.law(bodies, a, b);
       if (!law) continue;
       const int dim = bodies[a].body->dimension;
+      if (bodies[a].wall || bodies[b].wall) {
+        // A point against a mesh wall: the wall is a dense half-space (wall_law.hpp), so the
+        // partner sum N V^j becomes the volume of the ball of radius l_c (4 pi/3 l_c^3), a bound
+        // on the law's largest normal stiffness 4 pi/27 l_c^3 with room for edges and corners.
+        // The wall's own carriers feel nothing of it.
+        const std::size_t point_side = bodies[a].wall ? b : a;
+        const double c = law->coefficient[point_side == a ? 0 : 1];
+        const double ball = 4.0 / 3 * std::numbers::pi * std::pow(law->radius, 3);
+        if (!bodies[point_side].wall)
+          k[point_side] = std::max(k[point_side], kContactResolution * 2 * c * ball);
+        continue;
+      }
       // Point of a feels the partners of b, and the other way round.
       k[a] = std::max(k[a], kContactResolution * 2 * law->coefficient[0] *
                                 sites_in_ball(law->radius, bodies[b].spacing, dim) *

@@ -41,6 +41,27 @@ std::string megabytes_text(double mb) {
   return s.str();
 }
 
+// A mesh body: its surface, and for a sampled body how well the points fill it.
+void print_mesh(const MeshInfo& m, const Body& b) {
+  std::cout << "    mesh " << m.file << ": " << m.triangles << " triangles, box (" << m.lo.x()
+            << ", " << m.lo.y() << ", " << m.lo.z() << ") to (" << m.hi.x() << ", " << m.hi.y()
+            << ", " << m.hi.z() << ") m, "
+            << (m.closed ? std::string("closed")
+                         : "open (" + std::to_string(m.open_edges) + " open edges)");
+  if (m.closed) std::cout << ", mesh volume " << m.mesh_volume << " m^3";
+  if (m.wall) {
+    std::cout << "; a mesh wall: no points inside (its 6 carrier points hold its motion)\n";
+    return;
+  }
+  double sampled = 0;
+  for (double v : b.volume) sampled += v;
+  std::cout << ", sampled volume " << sampled << " m^3";
+  if (m.closed && m.mesh_volume > 0)
+    std::cout << " (" << std::showpos << 100 * (sampled / m.mesh_volume - 1) << std::noshowpos
+              << " %)";
+  std::cout << ", " << b.size() << " points\n";
+}
+
 void check(const CheckOptions& opt) {
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const auto start = std::chrono::steady_clock::now();
@@ -59,6 +80,7 @@ void check(const CheckOptions& opt) {
               << " (ordered), dx " << sb.spacing << " m, horizon " << b.horizon << " m, mass "
               << b.mass() << (b.dimension == 2 ? " kg/m" : " kg") << ", ~"
               << megabytes_text(body_megabytes(b)) << " of body data\n";
+    if (sb.mesh) print_mesh(*sb.mesh, b);
   }
   const StepChoice& s = sim.step_choice();
   const std::vector<double> contact = contact_stiffness_bounds(scene);

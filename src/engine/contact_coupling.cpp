@@ -10,7 +10,7 @@ std::vector<ContactBody> contact_bodies(Scene& scene) {
   std::vector<ContactBody> bodies;
   for (SceneBody& sb : scene.bodies)
     bodies.push_back({&sb.body, sb.spacing, sb.rigid.has_value(),
-                      sb.rigid.has_value() && sb.rigid->prescribed()});
+                      sb.rigid.has_value() && sb.rigid->prescribed(), sb.wall.get()});
   return bodies;
 }
 

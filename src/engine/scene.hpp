@@ -9,8 +9,10 @@
 
 #include "bodies/body.hpp"
 #include "contact/contact_settings.hpp"
+#include "contact/mesh_wall.hpp"
 #include "src/engine/condition.hpp"
 #include "src/engine/rigid_body.hpp"
+#include "src/geometry/mesh/mesh_source.hpp"
 
 namespace ckpd {
 
@@ -19,6 +21,9 @@ struct SceneBody {
   double spacing = 0;  // lattice spacing dx
   std::vector<std::unique_ptr<Condition>> conditions;
   std::optional<RigidMotion> rigid;  // set: a rigid body (no bonds; body holds its points)
+  // A mesh wall: a rigid body given by its surface; `body` holds its six carrier points.
+  std::shared_ptr<const MeshWall> wall;
+  std::optional<MeshInfo> mesh;  // bodies from a mesh (sampled or walls), for `ckpd check`
 };
 
 struct TimeSettings {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "bodies/bond_family.hpp"
+#include "src/geometry/mesh/mesh_shape.hpp"
 
 namespace ckpd {
 
@@ -22,6 +23,9 @@ std::size_t lattice_family_size(int dimension, double spacing, double horizon) {
 
 LatticeSample sample_lattice(const Shape& shape, int dimension, double dx, double horizon,
                              std::size_t max_points) {
+  // A mesh samples itself row by row, with its own estimate (mesh_shape.hpp).
+  if (const auto* mesh = dynamic_cast<const MeshShape*>(&shape))
+    return mesh->sample(dx, horizon, max_points);
   const Bounds b = shape.bounds();
   if (!b.finite()) throw std::invalid_argument("a body's geometry must be bounded");
   std::array<long long, 3> n{1, 1, 1};

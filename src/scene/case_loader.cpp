@@ -9,6 +9,7 @@
 #include "bodies/material.hpp"
 #include "bodies/patch_test.hpp"
 #include "src/geometry/lattice.hpp"
+#include "src/geometry/mesh/mesh_shape.hpp"
 #include "src/geometry/point_cloud.hpp"
 #include "src/geometry/shape.hpp"
 #include "src/output/field_writer.hpp"
@@ -119,11 +120,13 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
   if (geometry_node && points_node) n.fail("either geometry or points, not both");
   if (!geometry_node && !points_node) n.fail("a geometry (a shape) or points (a point-cloud file)");
   LatticeSample sample;
+  std::optional<MeshInfo> mesh_info;  // for `ckpd check`
   if (points_node) {
     sample = load_point_cloud(*points_node, def.dimension, spacing, def.horizon, max_points);
   } else {
     const CaseNode& geometry = *geometry_node;
     const std::unique_ptr<Shape> shape = make_shape(geometry, def.dimension);
+    if (const auto* m = dynamic_cast<const MeshShape*>(shape.get())) mesh_info = m->info();
     try {
       sample = sample_lattice(*shape, def.dimension, spacing, def.horizon, max_points);
     } catch (const std::invalid_argument& e) {
@@ -210,6 +213,7 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
     throw CaseError(n.where() + ": " + e.what());
   }
   sb.spacing = spacing;
+  sb.mesh = mesh_info;
   return sb;
 }
 

@@ -1,7 +1,9 @@
 #include "src/scene/rigid_body_loader.hpp"
 
 #include "src/geometry/lattice.hpp"
+#include "src/geometry/mesh/mesh_shape.hpp"
 #include "src/geometry/shape.hpp"
+#include "src/scene/mesh_wall_loader.hpp"
 
 namespace ckpd {
 
@@ -39,6 +41,11 @@ SceneBody read_rigid_body(const CaseNode& n, std::optional<double> material_dens
   if (kind == RigidMotion::Kind::free && !mass && !material_density)
     r.fail("a mass for a free rigid body: rigid.mass (kg) or a material (its density)");
   r.finish();
+  if (auto w = n.optional("mesh_wall")) {
+    if (n.has("geometry")) n.fail("either geometry (points) or mesh_wall (a surface), not both");
+    if (dimension != 3) w->fail("a 3D body for a mesh wall");
+    return read_mesh_wall(n, *w, name, kind, velocity, omega, mass, material_density);
+  }
 
   const double spacing = n.required("spacing").as_positive();
   std::size_t max_points = kDefaultMaxPoints;
@@ -72,6 +79,7 @@ SceneBody read_rigid_body(const CaseNode& n, std::optional<double> material_dens
     sb.body = make_point_set(name, dimension, std::move(sample.position), std::move(sample.volume),
                              density);
     sb.rigid.emplace(sb.body, kind, velocity, omega);
+    if (const auto* m = dynamic_cast<const MeshShape*>(shape.get())) sb.mesh = m->info();
   } catch (const std::invalid_argument& e) {
     throw CaseError(n.where() + ": " + e.what());
   }
