@@ -115,7 +115,7 @@ std::size_t update_bond_failure(Body& body) {
   return failed;
 }
 
-FailureUpdate fail_overstretched_bonds(Body& body) {
+FailureUpdate fail_overstretched_bonds(Body& body, double half_drift) {
   FailureUpdate result;
   if (!body.damage_enabled) return result;
   // Points with a bond about to fail (found with the same test update_bond_failure applies).
@@ -138,6 +138,14 @@ FailureUpdate fail_overstretched_bonds(Body& body) {
   for (std::size_t i = 0; i < n; ++i)
     if (touched[i]) points.push_back(static_cast<std::uint32_t>(i));
   std::vector<double> before(points.size()), after(points.size());
+  // Book at the step's midpoint (see the header): the energies are read at u - half_drift v, and
+  // the end-of-step displacement is put back bit for bit afterwards.
+  std::vector<Vec3> end_of_step;
+  if (half_drift != 0) {
+    end_of_step = body.displacement;
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) body.displacement[i] -= half_drift * body.velocity[i];
+  }
 #pragma omp parallel
   {
     FamilyScratch scratch;
@@ -145,11 +153,17 @@ FailureUpdate fail_overstretched_bonds(Body& body) {
     for (std::size_t p = 0; p < points.size(); ++p)
       before[p] = evaluate_point(body, points[p], scratch).strain_energy_density();
 #pragma omp single
-    result.failed = update_bond_failure(body);
+    {
+      // Decided at the end-of-step displacement, like update_bond_failure alone.
+      if (half_drift != 0) std::swap(body.displacement, end_of_step);
+      result.failed = update_bond_failure(body);
+      if (half_drift != 0) std::swap(body.displacement, end_of_step);
+    }
 #pragma omp for schedule(dynamic, 4)
     for (std::size_t p = 0; p < points.size(); ++p)
       after[p] = evaluate_point(body, points[p], scratch).strain_energy_density();
   }
+  if (half_drift != 0) body.displacement = std::move(end_of_step);
   // Summed in point order, so the result does not depend on the thread schedule.
   double dissipated = 0;
   for (std::size_t p = 0; p < points.size(); ++p)

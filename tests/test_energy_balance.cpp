@@ -1,7 +1,9 @@
 // The energy balance of history.csv / summary.json: kinetic + strain + contact + dissipated -
 // external work stays at its initial value. Elastic impacts close it to the integrator's
-// O(dt^2); with bonds breaking, the energy of the lost interactions is booked as dissipated and
-// what remains is the O(dt) error of forces that jump when a bond fails.
+// O(dt^2); with bonds breaking, the energy of the lost interactions is booked as dissipated at
+// the midpoint of the step in which they fail, which is what the integrator actually removes
+// (bodies/damage.hpp): booked at the step's end instead, the balance kept a first-order error of
+// 20 % of the dissipated energy in the tearing test below.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -77,7 +79,9 @@ TEST_CASE("an elastic impact keeps the energy balance within 1 % of the initial 
 }
 
 TEST_CASE("with bonds breaking, the dissipated term accounts for the energy lost", "[energy]") {
-  // Forces jump when a bond fails inside a step: the remaining error is first order in dt.
+  // Booked at the step's midpoint, the error of a failure is second order in dt: measured
+  // 1.1 % of the dissipated energy at the default step and 21x less at half the step (booked at
+  // the step's end: 20 %, halving with dt).
   const auto coarse = run_case("tear-coarse", kTear);
   const auto fine = run_case("tear-fine", kTear, "--set time.safety=0.4");
   const double dissipated = coarse["energy"]["dissipated"];
@@ -87,6 +91,6 @@ TEST_CASE("with bonds breaking, the dissipated term accounts for the energy lost
                      << error_fine << " (dt/2) J/m");
   REQUIRE(coarse["broken_bonds"].get<int>() > 1000);
   CHECK(dissipated > 0.3 * coarse["energy"]["external_work"].get<double>());
-  CHECK(error_coarse < 0.25 * dissipated);
-  CHECK(error_fine < 0.6 * error_coarse);
+  CHECK(error_coarse < 0.03 * dissipated);
+  CHECK(error_fine < 0.25 * error_coarse);  // at least second order
 }

@@ -156,7 +156,9 @@ void Simulation::evaluate_forces(bool with_energy) {
       b.force_density = b.external_force_density;  // no internal forces
       return;
     }
-    dissipated[index] = fail_overstretched_bonds(b).dissipated;
+    // velocity holds the drift velocity of the step (kick-drift-kick): the lost energy is
+    // booked at the step's midpoint, where the integrator's force switch effectively happens.
+    dissipated[index] = fail_overstretched_bonds(b, 0.5 * step_choice_.dt).dissipated;
     // Each bond, triangle and tetrahedron once (the per-point kernel in internal_force.hpp is the
     // reference it is tested against).
     const SymmetricKernelStats stats = compute_internal_force_symmetric(b, with_energy);

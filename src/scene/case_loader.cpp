@@ -53,7 +53,8 @@ std::vector<Precrack> read_precracks(const CaseNode& list, int dimension) {
   std::vector<Precrack> cracks;
   for (const CaseNode& c : list.elements()) {
     Precrack crack;
-    for (const CaseNode& corner : c.elements()) crack.corners.push_back(corner.as_vector(dimension));
+    for (const CaseNode& corner : c.elements())
+      crack.corners.push_back(corner.as_vector(dimension));
     if (dimension == 2 && crack.corners.size() != 2)
       c.fail("a 2D pre-crack as a segment: a list of 2 points");
     if (dimension == 3 && crack.corners.size() < 3)
@@ -178,10 +179,9 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
     if (mat.critical_stretch) {
       def.critical_stretch = *mat.critical_stretch;
     } else if (mat.fracture_energy) {
-      def.critical_stretch =
-          critical_stretch_from_fracture_energy(def.dimension, mat.youngs_modulus,
-                                                mat.poisson_ratio, plane, def.horizon,
-                                                *mat.fracture_energy);
+      def.critical_stretch = critical_stretch_from_fracture_energy(
+          def.dimension, mat.youngs_modulus, mat.poisson_ratio, plane, def.horizon,
+          *mat.fracture_energy);
     }
   } catch (const std::invalid_argument& e) {
     if (calibrated)
@@ -246,8 +246,10 @@ void read_conditions(const CaseNode& list, Scene& scene) {
         for (auto i : b) marked[i] = 1;
         for (auto i : a)
           if (marked[i])
-            c.fail("a condition that does not prescribe the motion of points another condition "
-                   "already prescribes (point " + std::to_string(i) + " of body '" + name + "')");
+            c.fail(
+                "a condition that does not prescribe the motion of points another condition "
+                "already prescribes (point " +
+                std::to_string(i) + " of body '" + name + "')");
       }
     }
     target->conditions.push_back(std::move(condition));
