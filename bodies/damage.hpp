@@ -47,8 +47,8 @@ std::size_t update_bond_failure(Body& body);
 // (a set stays active for vertices whose own bonds survive), so a balance with damage there
 // closes only approximately; see docs/VALIDATION.md.
 struct FailureUpdate {
-  std::size_t failed = 0;   // bonds, each counted once
-  double dissipated = 0;    // J (J/m in 2D)
+  std::size_t failed = 0;  // bonds, each counted once
+  double dissipated = 0;   // J (J/m in 2D)
 };
 FailureUpdate fail_overstretched_bonds(Body& body, double half_drift = 0);
 
