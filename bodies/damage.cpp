@@ -115,9 +115,51 @@ std::size_t update_bond_failure(Body& body) {
   return failed;
 }
 
+namespace {
+// Bonds only (no two- or three-neighbour sets): a failing bond {i, j} takes exactly its own
+// energy out of the two ends' sums, V^i dV1^i w + V^j dV1^j w with w = c1 L s^2 / 4 (half of
+// W1's 1/2 c1 L s^2 per stored direction), s its stretch at the booking displacement. One pass
+// over the bonds does the test, the failure and the bookkeeping: no per-point re-evaluation.
+FailureUpdate fail_overstretched_bonds_only(Body& body, double half_drift) {
+  const std::size_t n = body.size();
+  const bool protect = !body.no_failure.empty();
+  const double c1 = body.constants.c1;
+  // Per-point sums, added in point order below: the total does not depend on the thread count.
+  // (Kept between calls by the calling thread; the workers write through this reference.)
+  thread_local std::vector<double> kept;
+  std::vector<double>& lost = kept;
+  lost.assign(n, 0.0);
+  std::size_t failed = 0;
+#pragma omp parallel for schedule(static) reduction(+ : failed)
+  for (std::size_t i = 0; i < n; ++i) {
+    double mine = 0;
+    for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
+      if (!breaks_now(body, protect, i, k)) continue;
+      // Each stored direction fails its own flag; the other direction is decided by the same
+      // stretch when its row is visited.
+      body.bond_intact[k] = 0;
+      const std::uint32_t j = body.family.neighbour[k];
+      if (i < j) ++failed;
+      const Vec3 dX = body.reference_position[j] - body.reference_position[i];
+      const Vec3 du = (body.displacement[j] - half_drift * body.velocity[j]) -
+                      (body.displacement[i] - half_drift * body.velocity[i]);
+      const double s = bond_stretch(dX, du);
+      mine += 0.25 * c1 * dX.norm() * s * s;
+    }
+    lost[i] = mine * body.dv1[i] * body.volume[i];
+  }
+  FailureUpdate result;
+  result.failed = failed;
+  for (std::size_t i = 0; i < n; ++i) result.dissipated += lost[i];
+  return result;
+}
+}  // namespace
+
 FailureUpdate fail_overstretched_bonds(Body& body, double half_drift) {
   FailureUpdate result;
   if (!body.damage_enabled) return result;
+  if (!body.has_pairs() && !body.has_triples())
+    return fail_overstretched_bonds_only(body, half_drift);
   // Points with a bond about to fail (found with the same test update_bond_failure applies).
   const std::size_t n = body.size();
   const bool protect = !body.no_failure.empty();

@@ -214,11 +214,15 @@ TEST_CASE("a run killed mid-way leaves every complete frame readable", "[output]
   const int items = check_xdmf_against_hdf5(out);
   CHECK(items >= 2 * 7);
   CHECK(items % 14 == 0);
-  // Frame files not yet in the XDMF are at most the one being written.
+  // A frame is renamed into place, then listed in the XDMF: a kill between the two leaves one
+  // complete frame that the XDMF does not list yet, never more (a frame still being written
+  // has the .partial extension).
   std::size_t frame_files = 0;
   for (const auto& e : std::filesystem::directory_iterator(out / "fields"))
     frame_files += e.path().extension() == ".h5";
-  CHECK(frame_files == static_cast<std::size_t>(items / 14));
+  const auto listed = static_cast<std::size_t>(items / 14);
+  CHECK(frame_files >= listed);
+  CHECK(frame_files <= listed + 1);
 }
 
 TEST_CASE("bad output settings are rejected before anything is written", "[output]") {
