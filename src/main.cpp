@@ -1,5 +1,8 @@
 // The `ckpd` command line: run a case, inspect a discretisation.
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <cstdlib>
 #include <exception>
 #include <iostream>
 
@@ -10,7 +13,25 @@
 #include "src/output/checkpoint.hpp"
 #include "src/scene/case_node.hpp"
 
+namespace {
+
+// OpenMP reads its wait policy once, when the runtime loads, before main. GNU OpenMP's default
+// lets idle threads spin between parallel regions; on a machine whose cores are shared (the
+// usual workstation, and every CI machine) the spinning thread takes the core that the serial
+// part of a step needs: the LAMMPS in.peri.pmb counterpart (3,487 points) ran 2.2x slower at 2
+// threads than with threads that sleep, while the 50,653-point block lost 2-4 % by sleeping
+// (docs/PERFORMANCE.md). So unless the user chose a policy, ckpd starts itself once more with
+// OMP_WAIT_POLICY=passive; OMP_WAIT_POLICY=active (or any value) in the environment is kept.
+void choose_omp_wait_policy(char** argv) {
+  if (std::getenv("OMP_WAIT_POLICY") != nullptr) return;
+  if (setenv("OMP_WAIT_POLICY", "passive", 0) != 0) return;
+  execv("/proc/self/exe", argv);  // returns only on failure: then run as we are
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  choose_omp_wait_policy(argv);
   CLI::App app{"ckpd: continuum-kinematics-based peridynamics impact simulator"};
   app.require_subcommand(1);
   int exit_status = 0;
