@@ -131,14 +131,16 @@ output: {history_interval: 50, checkpoint_interval: 300}
 )";
   const auto dir = fresh_dir("restart-contact");
   const std::string file = write_file(dir / "case.yaml", text);
-  REQUIRE(run_ckpd("run " + file + " --quiet --threads 2 --out " + (dir / "full").string())
-              .exit_code == 0);
+  REQUIRE(
+      run_ckpd("run " + file + " --quiet --threads 2 --out " + (dir / "full").string()).exit_code ==
+      0);
   REQUIRE(run_ckpd("run " + file + " --quiet --threads 2 --set time.steps=300 --out " +
                    (dir / "part").string())
               .exit_code == 0);
   std::filesystem::copy_file(dir / "part" / "checkpoint.h5", dir / "at300.h5");
-  const CommandResult r = run_ckpd("run " + file + " --quiet --threads 2 --restart " +
-                                   (dir / "at300.h5").string() + " --out " + (dir / "part").string());
+  const CommandResult r =
+      run_ckpd("run " + file + " --quiet --threads 2 --restart " + (dir / "at300.h5").string() +
+               " --out " + (dir / "part").string());
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   const auto full = read_json(dir / "full" / "summary.json");

@@ -32,7 +32,9 @@ struct RunOptions {
 
 // Set by SIGINT/SIGTERM: the run finishes its step, writes a checkpoint and stops.
 volatile std::sig_atomic_t stop_requested = 0;
-extern "C" void request_stop(int) { stop_requested = 1; }
+extern "C" void request_stop(int) {
+  stop_requested = 1;
+}
 
 void print_setup(const Simulation& sim, std::ostream& os) {
   for (const SceneBody& sb : sim.scene().bodies) {

@@ -49,13 +49,12 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
       hdf5::write_bytes(group, "bond_intact", body.bond_intact);
       if (const auto& rigid = sim.scene().bodies[b].rigid) {
         const RigidMotion::State r = rigid->state();
-        const double packed[13] = {r.centre.x(),           r.centre.y(),
-                                   r.centre.z(),           r.velocity.x(),
-                                   r.velocity.y(),         r.velocity.z(),
-                                   r.angular_momentum.x(), r.angular_momentum.y(),
-                                   r.angular_momentum.z(), r.orientation.w(),
-                                   r.orientation.x(),      r.orientation.y(),
-                                   r.orientation.z()};
+        const double packed[13] = {
+            r.centre.x(),           r.centre.y(),           r.centre.z(),
+            r.velocity.x(),         r.velocity.y(),         r.velocity.z(),
+            r.angular_momentum.x(), r.angular_momentum.y(), r.angular_momentum.z(),
+            r.orientation.w(),      r.orientation.x(),      r.orientation.y(),
+            r.orientation.z()};
         hdf5::write_doubles(group, "rigid_state", packed, 13, 1);
       }
     }

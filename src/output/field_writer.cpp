@@ -1,6 +1,5 @@
 #include "src/output/field_writer.hpp"
 
-
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -86,15 +85,16 @@ FieldWriter::FieldWriter(std::string directory, std::vector<std::string> fields,
                           "open " + path.string());
         const long long step = hdf5::read_int64_attribute(file, "step");
         if (step <= resume_after_step) {
-          Frame frame{"fields/" + path.filename().string(),
-                      hdf5::read_double_attribute(file, "time"), {}};
+          Frame frame{
+              "fields/" + path.filename().string(), hdf5::read_double_attribute(file, "time"), {}};
           for (long long b = 0;; ++b) {
             const std::string group = "body_" + std::to_string(b);
             if (H5Lexists(file, group.c_str(), H5P_DEFAULT) <= 0) break;
             hdf5::Handle g(H5Gopen2(file, group.c_str(), H5P_DEFAULT), H5Gclose, "open " + group);
             hdf5::Handle set(H5Dopen2(g, "position", H5P_DEFAULT), H5Dclose, "open position");
             hdf5::Handle space(H5Dget_space(set), H5Sclose, "read a shape");
-            frame.points.push_back(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space) / 3));
+            frame.points.push_back(
+                static_cast<std::size_t>(H5Sget_simple_extent_npoints(space) / 3));
           }
           frames_.push_back(std::move(frame));
           keep = true;

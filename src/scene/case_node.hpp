@@ -55,7 +55,7 @@ class CaseNode {
   const std::string& path() const { return path_; }
   const std::string& file() const { return file_; }
   const YAML::Node& yaml() const { return node_; }  // the raw node, e.g. to re-emit it
-  std::string where() const;  // "file:line: path"
+  std::string where() const;                        // "file:line: path"
 
  private:
   YAML::Node node_;
