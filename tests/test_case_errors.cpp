@@ -146,6 +146,16 @@ TEST_CASE("a body's constants must be 'analytic' or 'calibrated'", "[cli][calibr
   const CommandResult r = run_ckpd("run " + file + " --quiet --out " + (dir / "out").string());
   INFO(r.output);
   CHECK(r.exit_code == 0);
+  // summary.json records the constants in use: the calibrated C1 is not the analytic one.
+  const std::string plain = write_file(dir / "plain.yaml", kGoodCase);
+  REQUIRE(run_ckpd("run " + plain + " --quiet --out " + (dir / "plain").string()).exit_code == 0);
+  const auto calibrated_c1 =
+      read_json(dir / "out" / "summary.json")["bodies"][0]["constants"]["c1"];
+  const auto analytic_c1 =
+      read_json(dir / "plain" / "summary.json")["bodies"][0]["constants"]["c1"];
+  CHECK(calibrated_c1.get<double>() > 0);
+  CHECK(analytic_c1.get<double>() > 0);
+  CHECK(calibrated_c1.get<double>() != analytic_c1.get<double>());
   expect_rejected(replace(kGoodCase, "    horizon_ratio: 3.015\n",
                           "    horizon_ratio: 3.015\n    constants: fitted\n"),
                   {"case.yaml:11:", "constants", "'analytic' or 'calibrated'"});

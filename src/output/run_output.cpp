@@ -115,6 +115,9 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
          {"three_neighbour", b.total_three_neighbour()},
          {"spacing", sb.spacing},
          {"horizon", b.horizon},
+         // The constants in use: the analytic ones or, with `constants: calibrated`, those
+         // solved from the lattice's patch test.
+         {"constants", {{"c1", b.constants.c1}, {"c2", b.constants.c2}, {"c3", b.constants.c3}}},
          {"critical_stretch", b.damage_enabled ? nlohmann::ordered_json(b.critical_stretch)
                                                : nlohmann::ordered_json(nullptr)},
          {"precracked_bonds", sim.precracked_bonds(index)},
