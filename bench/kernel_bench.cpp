@@ -22,10 +22,12 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bodies/body.hpp"
 #include "bodies/internal_force.hpp"
+#include "bodies/lattice_stencil.hpp"
 #include "bodies/material.hpp"
 #include "bodies/symmetric_kernel.hpp"
 
@@ -137,6 +139,29 @@ Timing time_runs(int reps, Fn&& fn) {
   return {k % 2 ? ms[k / 2] : 0.5 * (ms[k / 2 - 1] + ms[k / 2]), ms.front(), ms.back()};
 }
 
+// Times two functions in alternating runs (a, b, a, b, ...) after a warm-up of each.
+template <class FnA, class FnB>
+std::pair<Timing, Timing> time_alternately(int reps, FnA&& a, FnB&& b) {
+  a();
+  b();
+  std::vector<double> ma, mb;
+  auto once = [](auto&& fn) {
+    const auto t0 = std::chrono::steady_clock::now();
+    fn();
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  };
+  for (int r = 0; r < reps; ++r) {
+    ma.push_back(once(a));
+    mb.push_back(once(b));
+  }
+  auto summary = [](std::vector<double> ms) {
+    std::sort(ms.begin(), ms.end());
+    const std::size_t k = ms.size();
+    return Timing{k % 2 ? ms[k / 2] : 0.5 * (ms[k / 2 - 1] + ms[k / 2]), ms.front(), ms.back()};
+  };
+  return {summary(ma), summary(mb)};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -174,8 +199,19 @@ int main(int argc, char** argv) {
       three ? 6 : 2, sets, set_name, three ? 3 : 2, three ? 24 : 6, ordered / (three ? 24 : 6),
       static_cast<unsigned long long>(three ? stats.tetrahedra_per_vertex
                                             : stats.triangles_per_vertex));
+  if (body.stencil)
+    std::printf("lattice stencil: %zu upper offsets, %zu pairs, %zu triples, %.2f MB\n",
+                body.stencil->slots, body.stencil->pairs, body.stencil->triples,
+                static_cast<double>(body.stencil->bytes()) / 1e6);
+  else
+    std::printf("lattice stencil: none (%s)\n", body.stencil_note.c_str());
   std::printf("OpenMP max threads %d; reps %d (fast), %d (reference), medians\n\n",
               omp_get_max_threads(), o.reps, o.ref_reps);
+  // The same body on the general path, timed alternately with the stencil path so that both
+  // see the same machine load; their ratio is the stencil's gain.
+  ckpd::Body general = body;
+  general.stencil.reset();
+  ckpd::SymmetricKernelWorkspace general_workspace;
 
   std::vector<double> ref_ms, fast_ms;
   double worst = -1;  // < 0: no comparison made
@@ -194,14 +230,35 @@ int main(int argc, char** argv) {
           "interactions/s\n",
           ref.median, ref.min, ref.max, ordered / (ref.median * 1e-3), three ? 3 : 2);
     }
-    const Timing fast = time_runs(
-        o.reps, [&] { ckpd::compute_internal_force_symmetric(body, o.energy, workspace); });
+    Timing fast, slow;
+    if (body.stencil) {
+      const auto [a, b] = time_alternately(
+          o.reps, [&] { ckpd::compute_internal_force_symmetric(body, o.energy, workspace); },
+          [&] { ckpd::compute_internal_force_symmetric(general, o.energy, general_workspace); });
+      fast = a;
+      slow = b;
+    } else {
+      fast = time_runs(o.reps,
+                       [&] { ckpd::compute_internal_force_symmetric(body, o.energy, workspace); });
+    }
     fast_ms.push_back(fast.median);
     std::printf(
         "  fast       %9.1f ms/step (min %.1f, max %.1f)  %.3g ordered N%d "
         "interactions/s equivalent, %.3g %s/s\n",
         fast.median, fast.min, fast.max, ordered / (fast.median * 1e-3), three ? 3 : 2,
         sets / (fast.median * 1e-3), set_name);
+    if (body.stencil) {
+      double diff = 0, scale = 0;
+      for (std::size_t i = 0; i < body.size(); ++i) {
+        scale = std::max(scale, general.force_density[i].norm());
+        diff = std::max(diff, (general.force_density[i] - body.force_density[i]).norm());
+      }
+      std::printf(
+          "  general    %9.1f ms/step (min %.1f, max %.1f)  the fast kernel without the "
+          "stencil\n  stencil gain %7.2fx (general / stencil, alternating runs), "
+          "|difference| / max force %.1e\n",
+          slow.median, slow.min, slow.max, slow.median / fast.median, diff / scale);
+    }
     if (!reference.empty()) {
       std::printf("  speed-up   %9.2fx\n", ref_ms.back() / fast.median);
       double scale = 0, diff = 0;

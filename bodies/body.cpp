@@ -11,6 +11,7 @@
 
 #include "bodies/damage.hpp"
 #include "bodies/family_scratch.hpp"
+#include "bodies/lattice_stencil.hpp"
 
 namespace ckpd {
 
@@ -288,6 +289,13 @@ Body make_body(BodyDefinition def) {
   body.strain_energy_density.assign(n, 0.0);
 
   for (const Precrack& crack : def.precracks) apply_precrack(body, crack);
+  if (def.lattice_stencil) {
+    StencilBuild stencil = build_lattice_stencil(body);
+    body.stencil = std::move(stencil.stencil);
+    body.stencil_note = std::move(stencil.reason);
+  } else {
+    body.stencil_note = "turned off (lattice_stencil: false)";
+  }
   return body;
 }
 

@@ -4,6 +4,7 @@
 // stored: they are enumerated from the bond family whenever they are needed.
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,8 @@
 #include "bodies/vec.hpp"
 
 namespace ckpd {
+
+struct LatticeStencil;
 
 // Below this fraction of the product of its edge lengths from the centre point, a triangle's
 // area or a tetrahedron's volume counts as degenerate (MODEL.md section 1); a body may raise it
@@ -59,6 +62,9 @@ struct BodyDefinition {
   double inversion_penalty = 0;
   std::vector<std::uint8_t> no_failure;  // empty, or one flag per point: its bonds never fail
   std::vector<Precrack> precracks;
+  // Use the lattice stencil (lattice_stencil.hpp) when the points form one; off: always the
+  // general kernel path (for comparisons).
+  bool lattice_stencil = true;
 };
 
 struct Body {
@@ -89,6 +95,9 @@ struct Body {
   // Bonds: CSR family and one byte per stored bond (1 intact, 0 failed for good).
   BondFamily family;
   std::vector<std::uint8_t> bond_intact;
+  // The lattice stencil shared by all points, or null (general path); the note says why not.
+  std::shared_ptr<const LatticeStencil> stencil;
+  std::string stencil_note;
 
   // State.
   std::vector<Vec3> displacement;

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "bodies/family_scratch.hpp"
+#include "bodies/lattice_stencil.hpp"
 
 namespace ckpd {
 
@@ -30,6 +31,15 @@ struct SymmetricKernelThread {
   // bonded to a; adj_intact row a = those of them whose bond is intact.
   std::vector<std::uint64_t> own, adj, adj_intact;
   std::size_t m = 0, words = 0;
+  // The slots that hold a neighbour, as a bit row and in increasing order (`count` of them):
+  // all of 0..m-1 on the general path; on the stencil path, slots are the stencil's upper
+  // offsets and those outside the body are absent. `csr`: each present slot's CSR position.
+  std::vector<std::uint64_t> present;
+  std::vector<std::uint32_t> list;
+  std::vector<std::size_t> csr;
+  std::size_t count = 0;
+  // The intact rows are the adjacency rows (no failed bond among i and its upper neighbours).
+  bool intact_is_adjacency = false;
 
   SymmetricKernelStats stats;
 
@@ -38,8 +48,13 @@ struct SymmetricKernelThread {
       for (auto* v : {&Rx, &Ry, &Rz, &rx, &ry, &rz, &k2, &e2, &k3, &e3, &fx, &fy, &fz, &w})
         v->resize(slots);
       up.resize(slots);
+      list.resize(slots);
+      csr.resize(slots);
     }
-    if (own.size() < row_words) own.resize(row_words);
+    if (own.size() < row_words) {
+      own.resize(row_words);
+      present.resize(row_words);
+    }
     if (adj.size() < slots * row_words) {
       adj.resize(slots * row_words);
       adj_intact.resize(slots * row_words);
@@ -98,6 +113,11 @@ struct Context {
   // |A| > well2 (|V| > well3): the set is evaluated once with shared geometry; below, each
   // vertex evaluates its own term with the reference's arithmetic (>= hi2, hi3).
   double well2 = 0, well3 = 0;
+
+  // The body's lattice stencil when the kernel uses it, and then, with damage, one flag per
+  // point: some bond of its family has failed.
+  const LatticeStencil* stencil = nullptr;
+  const std::uint8_t* row_failed = nullptr;
 
   bool bond_intact(std::size_t k) const { return intact == nullptr || intact[k] != 0; }
 };
@@ -182,9 +202,14 @@ std::size_t load_upper_family(const Context& ctx, std::size_t i, SymmetricKernel
   const Vec3 Xi = ctx.X[i];
   const Vec3 ui = ctx.u ? ctx.u[i] : Vec3::Zero();
   std::fill_n(t.own.begin(), W, 0);
+  std::fill_n(t.present.begin(), W, ~std::uint64_t{0});
+  if (m % 64) t.present[W - 1] = (std::uint64_t{1} << (m % 64)) - 1;
+  t.count = m;
+  t.intact_is_adjacency = false;
   for (std::size_t a = 0; a < m; ++a) {
     const std::uint32_t j = nb[first + a];
     t.up[a] = j;
+    t.list[a] = static_cast<std::uint32_t>(a);
     // Same operations as FamilyScratch::load, so the centre i sees the same numbers.
     const Vec3 R = ctx.X[j] - Xi;
     const Vec3 r = ctx.u ? Vec3(R + (ctx.u[j] - ui)) : R;
@@ -227,6 +252,90 @@ std::size_t load_upper_family(const Context& ctx, std::size_t i, SymmetricKernel
     }
   }
   return m;
+}
+
+// The stencil path's load: slots are the stencil's upper offsets; each neighbour j > i of i
+// goes to the slot of its lattice offset, with the same offsets, flags and weights as
+// load_upper_family. Adjacency rows are the stencil's rows restricted to the present slots;
+// intact rows are merged from the CSR rows (as load_upper_family does) only when a bond near i
+// has failed. Returns the number of present slots (0: nothing to do).
+std::size_t load_upper_family_stencil(const Context& ctx, std::size_t i, SymmetricKernelThread& t,
+                                      bool rows) {
+  const LatticeStencil& st = *ctx.stencil;
+  const std::uint32_t* nb = ctx.neighbour;
+  const std::size_t begin = ctx.offset[i], end = ctx.offset[i + 1];
+  const std::size_t first = static_cast<std::size_t>(
+      std::upper_bound(nb + begin, nb + end, static_cast<std::uint32_t>(i)) - nb);
+  const std::size_t count = end - first;
+  t.count = count;
+  if (count == 0) return 0;
+  const std::size_t M = st.slots, W = st.words;
+  t.m = M;
+  t.words = W;
+  t.reserve(M, W);
+  const Body& body = *ctx.body;
+  const Vec3 Xi = ctx.X[i];
+  const Vec3 ui = ctx.u ? ctx.u[i] : Vec3::Zero();
+  std::fill_n(t.own.begin(), W, 0);
+  std::fill_n(t.present.begin(), W, 0);
+  bool failed_near = ctx.row_failed != nullptr && ctx.row_failed[i] != 0;
+  for (std::size_t n = 0; n < count; ++n) {
+    const std::uint32_t j = nb[first + n];
+    const auto a = static_cast<std::size_t>(st.slot(i, j));
+    t.up[a] = j;
+    t.list[n] = static_cast<std::uint32_t>(a);
+    t.csr[a] = first + n;
+    set_bit(t.present.data(), a);
+    const Vec3 R = ctx.X[j] - Xi;
+    const Vec3 r = ctx.u ? Vec3(R + (ctx.u[j] - ui)) : R;
+    t.Rx[a] = R.x();
+    t.Ry[a] = R.y();
+    t.Rz[a] = R.z();
+    t.rx[a] = r.x();
+    t.ry[a] = r.y();
+    t.rz[a] = r.z();
+    if (ctx.bond_intact(first + n)) set_bit(t.own.data(), a);
+    t.k2[a] = 2 * ctx.c2 * body.dv2[j];
+    t.e2[a] = ctx.c2 * body.dv2[j] / 3;
+    t.k3[a] = 6 * ctx.c3 * body.dv3[j];
+    t.e3[a] = 0.75 * ctx.c3 * body.dv3[j];
+    t.fx[a] = t.fy[a] = t.fz[a] = t.w[a] = 0;
+    if (ctx.row_failed != nullptr) failed_near = failed_near || ctx.row_failed[j] != 0;
+  }
+  if (!rows) return count;
+  const std::uint64_t* present = t.present.data();
+  for (std::size_t n = 0; n < count; ++n) {
+    const std::size_t a = t.list[n];
+    const std::uint64_t* srow = &st.adjacency[a * W];
+    std::uint64_t* row = &t.adj[a * W];
+    for (std::size_t w = 0; w < W; ++w) row[w] = srow[w] & present[w];
+  }
+  t.intact_is_adjacency = !failed_near;
+  if (!failed_near) return count;
+  for (std::size_t n = 0; n < count; ++n) {
+    const std::size_t a = t.list[n];
+    std::uint64_t* irow = &t.adj_intact[a * W];
+    std::fill_n(irow, W, 0);
+    if (n + 1 == count) break;
+    const std::uint32_t j = t.up[a];
+    const std::size_t jend = ctx.offset[j + 1];
+    std::size_t kk = static_cast<std::size_t>(
+        std::upper_bound(nb + ctx.offset[j], nb + jend, t.up[t.list[n + 1]] - 1) - nb);
+    std::size_t q = n + 1;
+    while (kk < jend && q < count) {
+      const std::uint32_t x = nb[kk], y = t.up[t.list[q]];
+      if (x == y) {
+        if (ctx.bond_intact(kk)) set_bit(irow, t.list[q]);
+        ++kk;
+        ++q;
+      } else if (x < y) {
+        ++kk;
+      } else {
+        ++q;
+      }
+    }
+  }
+  return count;
 }
 
 // The reference's own term for centre c of a triangle (other vertices o1 < o2) or tetrahedron
@@ -290,10 +399,16 @@ bool reference_tetrahedron_term(const Context& ctx, std::uint32_t c, std::uint32
 
 // Force and energy from i's bonds, triangles and tetrahedra, added to thread t's arrays. With
 // kEnergy the inverted sets are counted; with kPenalty they get the inversion penalty.
-template <bool kEnergy, bool kPenalty>
+// With kStencil, point i's slots and reference geometry come from the body's lattice stencil.
+template <bool kEnergy, bool kPenalty, bool kStencil>
 void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) {
-  const std::size_t m = load_upper_family(ctx, i, t, ctx.pairs || ctx.triples);
-  if (m == 0) return;
+  const bool rows = ctx.pairs || ctx.triples;
+  const std::size_t count =
+      kStencil ? load_upper_family_stencil(ctx, i, t, rows) : load_upper_family(ctx, i, t, rows);
+  if (count == 0) return;
+  const LatticeStencil* st = ctx.stencil;
+  const std::uint32_t* list = t.list.data();
+  const std::uint64_t* present = t.present.data();
   const Body& body = *ctx.body;
   const std::size_t W = t.words;
   const std::uint64_t* own = t.own.data();
@@ -340,9 +455,16 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
     for (std::size_t wd = 0; wd < W; ++wd) {
       for (std::uint64_t bits = own[wd]; bits; bits &= bits - 1) {
         const std::size_t a = wd * 64 + static_cast<std::size_t>(std::countr_zero(bits));
-        const double L = std::sqrt(Rx[a] * Rx[a] + Ry[a] * Ry[a] + Rz[a] * Rz[a]);
+        double L, inv_L;
+        if constexpr (kStencil) {
+          L = st->length[a];
+          inv_L = st->inv_length[a];
+        } else {
+          L = std::sqrt(Rx[a] * Rx[a] + Ry[a] * Ry[a] + Rz[a] * Rz[a]);
+          inv_L = 1 / L;
+        }
         const double l = std::sqrt(rx[a] * rx[a] + ry[a] * ry[a] + rz[a] * rz[a]);
-        const double k = ctx.c1 * (1 / L - 1 / l);
+        const double k = ctx.c1 * (inv_L - 1 / l);
         const double dv1j = body.dv1[up[a]];
         fix += k * dv1i * rx[a];
         fiy += k * dv1i * ry[a];
@@ -364,15 +486,29 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
   const double k2i = 2 * ctx.c2 * body.dv2[i], e2i = ctx.c2 * body.dv2[i] / 3;
   const double k3i = 6 * ctx.c3 * body.dv3[i], e3i = 0.75 * ctx.c3 * body.dv3[i];
 
-  for (std::size_t a = 0; a + 1 < m && (ctx.pairs || ctx.triples); ++a) {
+  for (std::size_t n = 0; n < count && rows; ++n) {
+    const std::size_t a = list[n];
     const std::uint64_t* ra = &t.adj[a * W];
-    const std::uint64_t* ia = &t.adj_intact[a * W];
+    const std::uint64_t* ia = t.intact_is_adjacency ? ra : &t.adj_intact[a * W];
+    // Stencil path: pair (a, b) is number pair_base[a] + the rank of b in a's stencil row.
+    std::size_t pair_rank = kStencil ? st->pair_base[a] : 0;
     const bool own_a = bit(own, a);
     const double Pa[3] = {Rx[a], Ry[a], Rz[a]};
     const double pa[3] = {rx[a], ry[a], rz[a]};
     for (std::size_t wb = a >> 6; wb < W; ++wb) {
+      std::uint64_t stencil_row = 0;
+      std::size_t word_rank = 0;
+      if constexpr (kStencil) {
+        stencil_row = st->adjacency[a * W + wb];
+        word_rank = pair_rank;
+        pair_rank += static_cast<std::size_t>(std::popcount(stencil_row));
+      }
       for (std::uint64_t bbits = ra[wb]; bbits; bbits &= bbits - 1) {
         const std::size_t b = wb * 64 + static_cast<std::size_t>(std::countr_zero(bbits));
+        const std::size_t pair =
+            kStencil ? word_rank + static_cast<std::size_t>(std::popcount(
+                                       stencil_row & ((std::uint64_t{1} << (b & 63)) - 1)))
+                     : 0;
         const bool own_b = bit(own, b), bond_ab = bit(ia, b);
         // Which vertices have both (all) of their bonds in the set intact (d2, d3).
         const bool act_i = own_a && own_b, act_j = own_a && bond_ab, act_k = own_b && bond_ab;
@@ -380,22 +516,32 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
         const double pb[3] = {rx[b], ry[b], rz[b]};
         // Reference and current cross products of the (a, b) edge pair: the triangle's area
         // vector and, for tetrahedra, the gradient of v at the fourth vertex.
+        // (Not needed on the stencil path, which has the pair's and its triples' numbers.)
         const double RPQ[3] = {Pa[1] * Pb[2] - Pa[2] * Pb[1], Pa[2] * Pb[0] - Pa[0] * Pb[2],
                                Pa[0] * Pb[1] - Pa[1] * Pb[0]};
         const double pq[3] = {pa[1] * pb[2] - pa[2] * pb[1], pa[2] * pb[0] - pa[0] * pb[2],
                               pa[0] * pb[1] - pa[1] * pb[0]};
 
         if (ctx.pairs && (act_i || act_j || act_k)) {
-          const double A = std::sqrt(RPQ[0] * RPQ[0] + RPQ[1] * RPQ[1] + RPQ[2] * RPQ[2]);
+          // Stencil: 1/A from the table, 0 for a degenerate (collinear) pair, and a lattice's
+          // sets are never ill-conditioned. General: A from the reference offsets.
+          double A = 0, inv_A = 0, ref_z = 0;
+          if constexpr (kStencil) {
+            inv_A = st->inv_area[pair];
+            ref_z = st->area_z[pair];
+          } else {
+            A = std::sqrt(RPQ[0] * RPQ[0] + RPQ[1] * RPQ[1] + RPQ[2] * RPQ[2]);
+            ref_z = RPQ[2];
+          }
           const unsigned active = unsigned(act_i) | unsigned(act_j) << 1 | unsigned(act_k) << 2;
-          if (A > ctx.well2) {
+          if (kStencil ? inv_A != 0 : A > ctx.well2) {
             const double an = std::sqrt(pq[0] * pq[0] + pq[1] * pq[1] + pq[2] * pq[2]);
             // (1/A - 1/|a|) a, finite for a collapsed triangle (as in the reference).
-            double fa = 1 / A - (an > 0 ? 1 / an : 0.0);
-            const double e = an / A - 1;
-            double en = A * e * e;
+            double fa = (kStencil ? inv_A : 1 / A) - (an > 0 ? 1 / an : 0.0);
+            const double e = kStencil ? an * inv_A - 1 : an / A - 1;
+            double en = kStencil ? e * e / inv_A : A * e * e;
             if constexpr (kEnergy || kPenalty) {
-              if (ctx.planar && pq[2] * RPQ[2] < 0) {  // inverted (2D: orientation is z)
+              if (ctx.planar && pq[2] * ref_z < 0) {  // inverted (2D: orientation is z)
                 if constexpr (kEnergy) ++n_inverted_triangles;
                 if constexpr (kPenalty) {
                   fa += ctx.pen2 / an;
@@ -427,7 +573,7 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
               if constexpr (kEnergy) slot_w[b] += e2[b] * en;
             }
             ++n_triangles;
-          } else if (A >= ctx.lo2) {
+          } else if (!kStencil && A >= ctx.lo2) {
             // Ill-conditioned or near the degeneracy threshold: each vertex on its own.
             const std::uint32_t vj = up[a], vk = up[b];
             Vec3 f;
@@ -464,7 +610,7 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
         // fourth vertex's force. Sums with all four vertices active go to (S, F, E); sums for
         // partially active sets to per-vertex accumulators.
         const std::uint64_t* rb = &t.adj[b * W];
-        const std::uint64_t* ib = &t.adj_intact[b * W];
+        const std::uint64_t* ib = t.intact_is_adjacency ? rb : &t.adj_intact[b * W];
         double S[3] = {0, 0, 0}, F = 0, E = 0;
         double Si[3] = {0, 0, 0}, Fi = 0, Ei = 0;
         // j and k need no F: their gradients q x r and r x p are linear in r alone.
@@ -545,24 +691,53 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
           n_tetrahedra += seen;
           n_tetrahedra_per_vertex += seen;
         };
+        // Stencil path: the pair's row of non-degenerate triples; triple (a, b, c) is number
+        // triple_base[pair] + the rank of c in that row, and its entry is 1 / V.
+        const std::uint64_t* triple_row = kStencil ? &st->triple_row[pair * W] : nullptr;
+        std::size_t triple_rank = kStencil ? st->triple_base[pair] : 0;
         for (std::size_t wc = b >> 6; wc < W; ++wc) {
-          const std::uint64_t cand = ra[wc] & rb[wc];
+          std::uint64_t cand;
+          std::size_t word_triple = 0;
+          if constexpr (kStencil) {
+            const std::uint64_t tr = triple_row[wc];
+            cand = tr & present[wc];
+            word_triple = triple_rank;
+            triple_rank += static_cast<std::size_t>(std::popcount(tr));
+          } else {
+            cand = ra[wc] & rb[wc];
+          }
           if (!cand) continue;
+          // 1 / V of triple c, whose bit is in word wc (stencil path only).
+          auto inv_volume = [&](std::size_t c) {
+            return st->inv_volume[word_triple +
+                                  static_cast<std::size_t>(std::popcount(
+                                      triple_row[wc] & ((std::uint64_t{1} << (c & 63)) - 1)))];
+          };
           const std::uint64_t mi = act_i ? own[wc] : 0, mj = act_j ? ia[wc] : 0,
                               mk = act_k ? ib[wc] : 0, ml = own[wc] & ia[wc] & ib[wc];
           std::uint64_t full = cand & mi & mj & mk & ml;
           std::uint64_t part = cand & (mi | mj | mk | ml) & ~full;
           for (; full; full &= full - 1) {
             const std::size_t c = wc * 64 + static_cast<std::size_t>(std::countr_zero(full));
-            const double signed_V = RPQ[0] * Rx[c] + RPQ[1] * Ry[c] + RPQ[2] * Rz[c];
-            const double V = std::abs(signed_V);
-            if (!(V > ctx.well3)) {  // rare on lattices; degenerate sets end here
-              if (V >= ctx.lo3) separate(c, 15);
-              continue;
+            // signed_V: the signed reference volume (general path) or its inverse (stencil);
+            // only its sign is used below besides V or 1/V.
+            double signed_V, V, inv_V;
+            if constexpr (kStencil) {
+              signed_V = inv_volume(c);
+              inv_V = std::abs(signed_V);
+              V = 0;
+            } else {
+              signed_V = RPQ[0] * Rx[c] + RPQ[1] * Ry[c] + RPQ[2] * Rz[c];
+              V = std::abs(signed_V);
+              inv_V = 0;
+              if (!(V > ctx.well3)) {  // rare on lattices; degenerate sets end here
+                if (V >= ctx.lo3) separate(c, 15);
+                continue;
+              }
             }
             const double r[3] = {rx[c], ry[c], rz[c]};
             const double v = pq[0] * r[0] + pq[1] * r[1] + pq[2] * r[2];
-            double f = v / V - sign(v);
+            double f = kStencil ? v * inv_V - sign(v) : v / V - sign(v);
             double pen_en = 0;  // the penalty's share of the energy, V e^2 units
             if constexpr (kEnergy || kPenalty) {
               if (v * signed_V < 0) {
@@ -582,8 +757,8 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
             fy[c] -= kl * pq[1];
             fz[c] -= kl * pq[2];
             if constexpr (kEnergy) {
-              const double e = std::abs(v) / V - 1;
-              const double en = V * e * e + pen_en;
+              const double e = kStencil ? std::abs(v) * inv_V - 1 : std::abs(v) / V - 1;
+              const double en = (kStencil ? e * e / inv_V : V * e * e) + pen_en;
               E += en;
               slot_w[c] += e3[c] * en;
             }
@@ -592,12 +767,13 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
           }
           for (; part; part &= part - 1) {
             const std::size_t c = wc * 64 + static_cast<std::size_t>(std::countr_zero(part));
-            const double signed_V = RPQ[0] * Rx[c] + RPQ[1] * Ry[c] + RPQ[2] * Rz[c];
+            const double signed_V =
+                kStencil ? 1 / inv_volume(c) : RPQ[0] * Rx[c] + RPQ[1] * Ry[c] + RPQ[2] * Rz[c];
             const double V = std::abs(signed_V);
             const unsigned active =
                 unsigned((mi >> (c & 63)) & 1) | unsigned((mj >> (c & 63)) & 1) << 1 |
                 unsigned((mk >> (c & 63)) & 1) << 2 | unsigned((ml >> (c & 63)) & 1) << 3;
-            if (V > ctx.well3) {
+            if (kStencil || V > ctx.well3) {
               partial(c, active, signed_V);
             } else if (V >= ctx.lo3) {
               separate(c, active);
@@ -645,7 +821,8 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
   // Flush: i's own sum and every slot's share into this thread's whole-body arrays.
   t.force[i] += Vec3(fix, fiy, fiz);
   if constexpr (kEnergy) t.energy[i] += wi;
-  for (std::size_t a = 0; a < m; ++a) {
+  for (std::size_t n = 0; n < count; ++n) {
+    const std::size_t a = list[n];
     t.force[up[a]] += Vec3(fx[a], fy[a], fz[a]);
     if constexpr (kEnergy) t.energy[up[a]] += slot_w[a];
   }
@@ -693,11 +870,30 @@ double squared_length(const Body& body, std::size_t i, std::size_t k) {
 
 }  // namespace
 
+bool uses_lattice_stencil(const Body& body) {
+  // The stencil serves only the interaction families it was built with (the constants set
+  // which; they do not change sign after the body is made, but a caller may zero one). Bond-only
+  // bodies keep the general path: the slot look-up costs more than the 1/L it saves (measured
+  // 0.87x on a 24^3 block, nu = 0.25; docs/PERFORMANCE.md).
+  const LatticeStencil* st = body.stencil.get();
+  const bool pairs = body.has_pairs(), triples = body.has_triples();
+  return st != nullptr && (pairs || triples) && (!pairs || !st->inv_area.empty()) &&
+         (!triples || !st->triple_row.empty()) && !st->adjacency.empty();
+}
+
 SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_energy,
                                                       SymmetricKernelWorkspace& workspace) {
   const std::size_t n = body.size();
   Context ctx = make_context(body);
   workspace.ensure_threads(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
+  if (uses_lattice_stencil(body)) {
+    const LatticeStencil* st = body.stencil.get();
+    ctx.stencil = st;
+    if (ctx.intact != nullptr) {
+      if (workspace.row_failed.size() < n) workspace.row_failed.resize(n);
+      ctx.row_failed = workspace.row_failed.data();
+    }
+  }
   double min_length2 = std::numeric_limits<double>::infinity();
   int team = 1;
   // Static schedule: which thread handles which point is a function of the thread count only,
@@ -723,21 +919,34 @@ SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_ener
 #pragma omp single
       set_screens(ctx, std::sqrt(min_length2));
     }
-    const bool penalty = ctx.pen2 != 0 || ctx.pen3 != 0;
-    if (with_energy && penalty) {
-#pragma omp for schedule(static, kChunk)
-      for (std::size_t i = 0; i < n; ++i) process_point<true, true>(ctx, i, th);
-    } else if (with_energy) {
-#pragma omp for schedule(static, kChunk)
-      for (std::size_t i = 0; i < n; ++i) process_point<true, false>(ctx, i, th);
-    } else if (penalty) {
-#pragma omp for schedule(static, kChunk)
-      for (std::size_t i = 0; i < n; ++i) process_point<false, true>(ctx, i, th);
-    } else {
-#pragma omp for schedule(static, kChunk)
-      for (std::size_t i = 0; i < n; ++i) process_point<false, false>(ctx, i, th);
+    if (ctx.stencil != nullptr && ctx.intact != nullptr) {
+#pragma omp for schedule(static)
+      for (std::size_t i = 0; i < n; ++i) {
+        std::uint8_t failed = 0;
+        for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k)
+          failed |= static_cast<std::uint8_t>(ctx.intact[k] == 0);
+        workspace.row_failed[i] = failed;
+      }
     }
-    // Fixed-order reduction: thread 0, 1, ... for every point.
+    const bool penalty = ctx.pen2 != 0 || ctx.pen3 != 0;
+    auto all_points = [&]<bool kEnergy, bool kPenalty>() {
+      if (ctx.stencil != nullptr) {
+#pragma omp for schedule(static, kChunk)
+        for (std::size_t i = 0; i < n; ++i) process_point<kEnergy, kPenalty, true>(ctx, i, th);
+      } else {
+#pragma omp for schedule(static, kChunk)
+        for (std::size_t i = 0; i < n; ++i) process_point<kEnergy, kPenalty, false>(ctx, i, th);
+      }
+    };
+    if (with_energy && penalty)
+      all_points.template operator()<true, true>();
+    else if (with_energy)
+      all_points.template operator()<true, false>();
+    else if (penalty)
+      all_points.template operator()<false, true>();
+    else
+      all_points.template operator()<false, false>();
+      // Fixed-order reduction: thread 0, 1, ... for every point.
 #pragma omp for schedule(static)
     for (std::size_t p = 0; p < n; ++p) {
       Vec3 f = workspace.thread(0).force[p];

@@ -52,6 +52,9 @@ class SymmetricKernelWorkspace {
   SymmetricKernelThread& thread(std::size_t t) { return *threads_[t]; }
   void ensure_threads(std::size_t count);
 
+  // Stencil path with damage: per point, whether some bond of its family has failed.
+  std::vector<std::uint8_t> row_failed;
+
  private:
   std::vector<std::unique_ptr<SymmetricKernelThread>> threads_;
 };
@@ -61,6 +64,10 @@ class SymmetricKernelWorkspace {
 // This overload keeps its scratch in a workspace private to the calling (host) thread.
 // body.inversion_penalty adds the inversion penalty exactly as compute_internal_force does.
 SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_energy);
+// Whether a body is evaluated on the stencil path: it has a lattice stencil (body.stencil) with
+// the tables its interaction families need, and it has two- or three-neighbour interactions.
+// Resetting body.stencil selects the general path (benchmarks and tests compare the two).
+bool uses_lattice_stencil(const Body& body);
 SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_energy,
                                                       SymmetricKernelWorkspace& workspace);
 

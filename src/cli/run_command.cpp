@@ -13,6 +13,7 @@
 #include "src/output/beta_report.hpp"
 #include "src/output/checkpoint.hpp"
 #include "src/output/field_writer.hpp"
+#include "src/output/kernel_report.hpp"
 #include "src/output/progress.hpp"
 #include "src/output/run_output.hpp"
 #include "src/scene/case_loader.hpp"
@@ -46,6 +47,7 @@ void print_setup(const Simulation& sim, std::ostream& os) {
        << ", critical stretch " << (b.damage_enabled ? std::to_string(b.critical_stretch) : "none")
        << '\n';
     if (const std::string note = beta_setup_note(b); !note.empty()) os << note << '\n';
+    os << "  kernel: " << kernel_path_note(b) << '\n';
   }
   const StepChoice& s = sim.step_choice();
   os << "time step: estimate " << s.estimate << " s (body '" << s.limiting_body << "', point "

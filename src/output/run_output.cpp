@@ -12,6 +12,7 @@
 #include "bodies/fragments.hpp"
 #include "src/output/beta_report.hpp"
 #include "src/output/contact_summary.hpp"
+#include "src/output/kernel_report.hpp"
 
 namespace ckpd {
 
@@ -118,6 +119,7 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
          // The constants in use: the analytic ones or, with `constants: calibrated`, those
          // solved from the lattice's patch test.
          {"constants", {{"c1", b.constants.c1}, {"c2", b.constants.c2}, {"c3", b.constants.c3}}},
+         {"kernel", kernel_path_summary(b)},
          {"critical_stretch", b.damage_enabled ? nlohmann::ordered_json(b.critical_stretch)
                                                : nlohmann::ordered_json(nullptr)},
          {"precracked_bonds", sim.precracked_bonds(index)},

@@ -155,6 +155,8 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
     def.inversion_penalty = f->as_double();
     if (!(def.inversion_penalty >= 0)) f->fail("a penalty factor >= 0 (0: off, 1: signed volume)");
   }
+  // lattice_stencil: false keeps the general kernel path on a lattice body (comparisons).
+  if (auto f = n.optional("lattice_stencil")) def.lattice_stencil = f->as_bool();
   // constants: analytic (MODEL.md section 3, default) or calibrated to the lattice's patch test
   // (bodies/patch_test.hpp: exact bulk and uniaxial-strain moduli for this spacing and m).
   bool calibrated = false;
