@@ -153,13 +153,24 @@ StencilBuild build_lattice_stencil(const Body& body) {
     if (!lex_less(coord_of(i), coord_of(i + 1)))
       return fail("points are not numbered in (z, y, x) lattice order");
 
-  // All offsets within the horizon, and the upper ones in (z, y, x) order.
+  // The body's box in lattice coordinates.
+  Offset lo = coord_of(0), hi = coord_of(0);
+  for (std::size_t i = 1; i < n; ++i)
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = std::min(lo[d], st.coord[3 * i + d]);
+      hi[d] = std::max(hi[d], st.coord[3 * i + d]);
+    }
+
+  // All offsets within the horizon that fit in the body's box (a thin body needs only the
+  // offsets across its thickness: a two-layer disc at m = 8 has |dz| <= 1, which keeps its
+  // triple table small), and the upper ones in (z, y, x) order.
   const int range = static_cast<int>(std::ceil(body.horizon / spacing)) + 1;
-  const int zrange = body.dimension == 3 ? range : 0;
+  std::array<int, 3> extent{};
+  for (int d = 0; d < 3; ++d) extent[d] = std::min(range, hi[d] - lo[d]);
   std::vector<Offset> all;
-  for (int z = -zrange; z <= zrange; ++z)
-    for (int y = -range; y <= range; ++y)
-      for (int x = -range; x <= range; ++x) {
+  for (int z = -extent[2]; z <= extent[2]; ++z)
+    for (int y = -extent[1]; y <= extent[1]; ++y)
+      for (int x = -extent[0]; x <= extent[0]; ++x) {
         const Offset o{x, y, z};
         if ((x || y || z) && within(o, spacing, body.horizon)) all.push_back(o);
       }
@@ -184,12 +195,6 @@ StencilBuild build_lattice_stencil(const Body& body) {
 
   // Every family must be exactly the stencil's offsets whose site holds a point: its bonds are
   // stencil offsets, and it has as many as there are occupied stencil sites around the point.
-  Offset lo = coord_of(0), hi = coord_of(0);
-  for (std::size_t i = 1; i < n; ++i)
-    for (int d = 0; d < 3; ++d) {
-      lo[d] = std::min(lo[d], st.coord[3 * i + d]);
-      hi[d] = std::max(hi[d], st.coord[3 * i + d]);
-    }
   const double sites =
       (double(hi[0]) - lo[0] + 1) * (double(hi[1]) - lo[1] + 1) * (double(hi[2]) - lo[2] + 1);
   if (sites > 64.0 * double(n) + 1e6) return fail("points fill too little of their lattice box");

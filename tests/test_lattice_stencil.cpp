@@ -1,7 +1,7 @@
 // The lattice stencil (bodies/lattice_stencil.hpp) and the symmetric kernel's stencil path:
 // which bodies get a stencil and why others do not, and the stencil path against the reference
 // kernel (1e-12 of the largest force and energy) and against the general path, on perturbed
-// lattice blocks and ball-shaped lattice bodies (partial families all around) with randomly
+// lattice blocks, two-layer plates and cylinders (partial families all around) with randomly
 // failed bonds, 2D and 3D, 1 and 2 OpenMP threads.
 #include <algorithm>
 #include <catch2/catch.hpp>
@@ -18,26 +18,27 @@ using namespace kernel_comparison;
 
 namespace {
 
-// Keeps the points of a lattice block within the ball inscribed in it: every boundary point's
-// family is the stencil minus a different set of offsets.
-BodyDefinition cut_to_ball(BodyDefinition d) {
+// Keeps the points of a lattice block within the cylinder (2D: disc) along z inscribed in it:
+// every point near its curved side has a family that is the stencil minus a different set of
+// offsets.
+BodyDefinition cut_to_disc(BodyDefinition d) {
   Vec3 lo = d.reference_position.front(), hi = lo;
   for (const Vec3& p : d.reference_position) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
   const Vec3 centre = (lo + hi) / 2;
-  double radius = hi.x() - lo.x();
-  for (int c = 1; c < d.dimension; ++c) radius = std::min(radius, hi[c] - lo[c]);
-  radius = radius / 2 + 1e-9;
+  const double radius = std::min(hi.x() - lo.x(), hi.y() - lo.y()) / 2 + 1e-9;
   BodyDefinition out = d;
   out.reference_position.clear();
   out.volume.clear();
-  for (std::size_t i = 0; i < d.reference_position.size(); ++i)
-    if ((d.reference_position[i] - centre).norm() <= radius) {
+  for (std::size_t i = 0; i < d.reference_position.size(); ++i) {
+    const Vec3 r = d.reference_position[i] - centre;
+    if (std::hypot(r.x(), r.y()) <= radius) {
       out.reference_position.push_back(d.reference_position[i]);
       out.volume.push_back(d.volume[i]);
     }
+  }
   return out;
 }
 
@@ -68,20 +69,31 @@ TEST_CASE("lattice bodies get a stencil and other point sets say why not", "[lat
   BodyDefinition off = block(3, s.nx, s.ny, s.nz, constants_for(s), 0.0, rng);
   off.lattice_stencil = false;
   CHECK_FALSE(ckpd::make_body(off).stencil);
+
+  // A two-layer plate at m = 5.015 keeps only the offsets across its thickness.
+  const Scene thin{"plate", 3, 0.2, 0.0, 12, 12, 2, false, 5.015};
+  const Body plate =
+      ckpd::make_body(block(3, thin.nx, thin.ny, thin.nz, constants_for(thin), 0.0, rng, thin.m));
+  REQUIRE(plate.stencil);
+  int largest_dz = 0;
+  for (const auto& o : plate.stencil->offset) largest_dz = std::max(largest_dz, o[2]);
+  CHECK(largest_dz == 1);
 }
 
 TEST_CASE("a stencil whose tables would exceed the memory limit is not built",
           "[lattice_stencil]") {
-  // Two points, m = 7: the stencil's triple table (about m^9) would need far more than 64 MiB.
+  // A few points spanning 7 spacings in x, y and z, m = 7: the stencil's triple table (about
+  // m^9) would need far more than 64 MiB.
   BodyDefinition d;
-  d.name = "pair";
+  d.name = "diagonal";
   d.dimension = 3;
   d.density = 1;
   d.horizon = 7 * kDx;
   d.constants = ckpd::interaction_constants(3, kE, 0.3, ckpd::PlaneMode::none, d.horizon);
   d.reference_position = {Vec3(0, 0, 0), Vec3(kDx, 0, 0)};
-  d.volume.assign(2, kDx * kDx * kDx);
-  d.full_family_volume = 2 * kDx * kDx * kDx;
+  for (int k = 1; k <= 7; ++k) d.reference_position.push_back(kDx * Vec3(k, k, k));
+  d.volume.assign(d.reference_position.size(), kDx * kDx * kDx);
+  d.full_family_volume = static_cast<double>(d.reference_position.size()) * kDx * kDx * kDx;
   const Body body = ckpd::make_body(d);
   CHECK_FALSE(body.stencil);
   CHECK(body.stencil_note.find("MiB") != std::string::npos);
@@ -98,14 +110,16 @@ TEST_CASE("stencil kernel equals the reference kernel on perturbed, damaged latt
       {"3D lattice, triangles and tetrahedra", 3, 0.3, 0.0, 7, 7, 6, true},
       {"2D lattice, m=5.3", 2, 0.4, 0.0, 19, 18, 1, false, 5.3},
       {"3D lattice, m=3.7", 3, 0.3, 0.0, 8, 8, 7, false, 3.7},
+      // Thin: only the offsets with |dz| <= 1 are in the stencil (C3 < 0, like the seed's disc).
+      {"3D two-layer plate, m=5.015", 3, 0.2, 0.0, 13, 12, 2, false, 5.015},
   };
   std::mt19937 rng(2026);
   for (const Scene& s : scenes) {
-    for (const bool ball : {false, true}) {
+    for (const bool disc : {false, true}) {
       for (const double failed : {0.0, 0.15}) {
-        DYNAMIC_SECTION(s.label << (ball ? ", ball" : ", block") << ", failed " << failed) {
+        DYNAMIC_SECTION(s.label << (disc ? ", disc" : ", block") << ", failed " << failed) {
           BodyDefinition d = block(s.dimension, s.nx, s.ny, s.nz, constants_for(s), 0.0, rng, s.m);
-          if (ball) d = cut_to_ball(d);
+          if (disc) d = cut_to_disc(d);
           Body body = ckpd::make_body(d);
           REQUIRE(body.stencil);
           perturb(body, 0.05, rng);
@@ -128,7 +142,7 @@ TEST_CASE("stencil path evaluates the same sets as the general path", "[lattice_
                          Scene{"3D both", 3, 0.3, 0.0, 6, 6, 6, true}}) {
     DYNAMIC_SECTION(s.label) {
       Body body = ckpd::make_body(
-          cut_to_ball(block(s.dimension, s.nx, s.ny, s.nz, constants_for(s), 0.0, rng)));
+          cut_to_disc(block(s.dimension, s.nx, s.ny, s.nz, constants_for(s), 0.0, rng)));
       REQUIRE(body.stencil);
       perturb(body, 0.05, rng);
       fail_bonds(body, 0.1, rng);
