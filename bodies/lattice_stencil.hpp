@@ -22,8 +22,10 @@ namespace ckpd {
 struct Body;
 
 // The stencil's tables grow like m^9 (its triples); above this many bytes the body keeps the
-// general path, which stores nothing per set.
-inline constexpr std::size_t kStencilMemoryLimit = std::size_t{64} << 20;
+// general path, which stores nothing per set. Measured (docs/PERFORMANCE.md): tables of 0.25 to
+// 1.6 MB gain 1.05-1.34x; the seed's two-layer disc at m = 8 (about 9 MB) gained nothing
+// (25.6 against 25.3 s per step): its table no longer stays in cache.
+inline constexpr std::size_t kStencilMemoryLimit = std::size_t{8} << 20;
 
 struct LatticeStencil {
   double spacing = 0;

@@ -83,7 +83,7 @@ TEST_CASE("lattice bodies get a stencil and other point sets say why not", "[lat
 TEST_CASE("a stencil whose tables would exceed the memory limit is not built",
           "[lattice_stencil]") {
   // A few points spanning 7 spacings in x, y and z, m = 7: the stencil's triple table (about
-  // m^9) would need far more than 64 MiB.
+  // m^9) would need far more than the limit.
   BodyDefinition d;
   d.name = "diagonal";
   d.dimension = 3;

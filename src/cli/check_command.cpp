@@ -10,6 +10,7 @@
 
 #include "src/engine/contact_coupling.hpp"
 #include "src/engine/simulation.hpp"
+#include "src/output/kernel_report.hpp"
 #include "src/output/run_output.hpp"
 #include "src/scene/case_loader.hpp"
 
@@ -80,6 +81,7 @@ void check(const CheckOptions& opt) {
               << " (ordered), dx " << sb.spacing << " m, horizon " << b.horizon << " m, mass "
               << b.mass() << (b.dimension == 2 ? " kg/m" : " kg") << ", ~"
               << megabytes_text(body_megabytes(b)) << " of body data\n";
+    std::cout << "    kernel: " << kernel_path_note(b) << '\n';
     if (sb.mesh) print_mesh(*sb.mesh, b);
   }
   const StepChoice& s = sim.step_choice();
