@@ -4,9 +4,10 @@
 // stress square, where the triangles do the work), at 1 and 2 OpenMP threads.
 //
 //   kernel_bench [--dim 3] [--n 24] [--m 3.015] [--nu 0.3] [--reps 7] [--ref-reps 3]
-//                [--threads 1,2] [--energy] [--jitter 0]
+//                [--threads 1,2] [--energy] [--jitter 0] [--order lex|morton]
 // --jitter j moves every point by up to +-j dx per component: an irregular cloud, whose slivers
-// (nearly flat tetrahedra) the fast kernel evaluates vertex by vertex.
+// (nearly flat tetrahedra) the fast kernel evaluates vertex by vertex. --order morton numbers
+// the points along a Morton curve (a space-filling-curve ordering; no lattice stencil then).
 //
 // Prints the setup, the median (and min/max) milliseconds per evaluation, interactions per
 // second, the speed-up of the fast kernel and its thread scaling, and the largest difference
@@ -16,6 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <random>
@@ -45,6 +47,7 @@ struct Options {
   std::vector<int> threads{1, 2};
   bool energy = false;
   double jitter = 0;
+  bool morton = false;  // number the points along a Morton (Z-order) curve instead of (z, y, x)
 };
 
 Options parse(int argc, char** argv) {
@@ -76,6 +79,10 @@ Options parse(int argc, char** argv) {
       o.jitter = std::stod(value());
     } else if (key == "--energy") {
       o.energy = true;
+    } else if (key == "--order") {
+      const std::string order = value();
+      if (order != "lex" && order != "morton") throw std::invalid_argument("--order lex|morton");
+      o.morton = order == "morton";
     } else {
       throw std::invalid_argument("unknown option " + key);
     }
@@ -97,6 +104,21 @@ ckpd::Body lattice_body(const Options& o) {
   for (int z = 0; z < layers; ++z)
     for (int y = 0; y < o.n; ++y)
       for (int x = 0; x < o.n; ++x) d.reference_position.emplace_back(x * dx, y * dx, z * dx);
+  if (o.morton) {
+    // Z-order: interleave the bits of the lattice coordinates (10 bits each, n <= 1024).
+    auto spread = [](std::uint64_t v) {
+      std::uint64_t r = 0;
+      for (int b = 0; b < 10; ++b) r |= ((v >> b) & 1) << (3 * b);
+      return r;
+    };
+    auto code = [&](const Vec3& p) {
+      return spread(std::uint64_t(std::llround(p.x() / dx))) |
+             spread(std::uint64_t(std::llround(p.y() / dx))) << 1 |
+             spread(std::uint64_t(std::llround(p.z() / dx))) << 2;
+    };
+    std::sort(d.reference_position.begin(), d.reference_position.end(),
+              [&](const Vec3& a, const Vec3& b) { return code(a) < code(b); });
+  }
   std::mt19937 rng(1);
   if (o.jitter > 0) {
     std::uniform_real_distribution<double> j(-o.jitter * dx, o.jitter * dx);
