@@ -159,6 +159,17 @@ double Body::mass() const {
   return m;
 }
 
+DamageRule damage_rule_from_string(const std::string& name) {
+  if (name == "centre_bonds") return DamageRule::centre_bonds;
+  if (name == "all_edges") return DamageRule::all_edges;
+  throw std::invalid_argument("damage rule must be 'centre_bonds' or 'all_edges', got '" + name +
+                              "'");
+}
+
+std::string to_string(DamageRule rule) {
+  return rule == DamageRule::all_edges ? "all_edges" : "centre_bonds";
+}
+
 Body make_body(BodyDefinition def) {
   check_definition(def);
   Body body;
@@ -171,6 +182,7 @@ Body make_body(BodyDefinition def) {
   body.damage_enabled = std::isfinite(def.critical_stretch);
   body.degenerate_fraction = def.degenerate_fraction;
   body.inversion_penalty = def.inversion_penalty;
+  body.damage_rule = def.damage_rule;
   body.reference_position = std::move(def.reference_position);
   body.volume = std::move(def.volume);
   body.no_failure = std::move(def.no_failure);

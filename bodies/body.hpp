@@ -29,6 +29,18 @@ struct Precrack {
   std::vector<Vec3> corners;
 };
 
+// Which failed bonds switch a two- or three-neighbour set off (MODEL.md section 4).
+// centre_bonds (MODEL.md): for vertex c, a set is off when one of c's own bonds in it failed, so
+// a triangle or tetrahedron can stay on for some vertices and be off for others; the damaged
+// forces are then not the gradient of one energy. all_edges: a set is on for all its vertices
+// while every edge (3 of a triangle, 6 of a tetrahedron) is intact and off for all of them
+// otherwise; each set's energy is switched as a whole, so the damaged model stays conservative
+// (the energy of a switched-off set is booked as dissipated), at the price of losing more sets
+// per failed bond.
+enum class DamageRule { centre_bonds, all_edges };
+DamageRule damage_rule_from_string(const std::string& name);  // throws std::invalid_argument
+std::string to_string(DamageRule rule);
+
 struct BodyDefinition {
   std::string name;
   int dimension = 3;
@@ -65,6 +77,7 @@ struct BodyDefinition {
   // Use the lattice stencil (lattice_stencil.hpp) when the points form one; off: always the
   // general kernel path (for comparisons).
   bool lattice_stencil = true;
+  DamageRule damage_rule = DamageRule::centre_bonds;
 };
 
 struct Body {
@@ -76,8 +89,9 @@ struct Body {
   InteractionConstants constants;
   double critical_stretch = std::numeric_limits<double>::infinity();
   bool damage_enabled = false;
-  double degenerate_fraction = kDegenerateFraction;  // BodyDefinition::degenerate_fraction
-  double inversion_penalty = 0;                      // BodyDefinition::inversion_penalty
+  double degenerate_fraction = kDegenerateFraction;   // BodyDefinition::degenerate_fraction
+  double inversion_penalty = 0;                       // BodyDefinition::inversion_penalty
+  DamageRule damage_rule = DamageRule::centre_bonds;  // BodyDefinition::damage_rule
 
   // Reference data per point, fixed for the run.
   std::vector<Vec3> reference_position;

@@ -176,6 +176,22 @@ FailureUpdate fail_overstretched_bonds(Body& body, double half_drift) {
     }
   }
   if (!any) return result;
+  if (body.damage_rule == DamageRule::all_edges) {
+    // A failing bond j-k also switches off, for every common neighbour i, the sets of i's own
+    // family that hold the edge j-k: their energy leaves i's sum too. Every such i is bonded to
+    // j (the set's edges are bonds), so the ends' neighbours are all the points that change.
+    std::vector<std::uint8_t> ends = touched;
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (ends[i]) continue;
+      for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
+        if (ends[body.family.neighbour[k]]) {
+          touched[i] = 1;
+          break;
+        }
+      }
+    }
+  }
   std::vector<std::uint32_t> points;
   for (std::size_t i = 0; i < n; ++i)
     if (touched[i]) points.push_back(static_cast<std::uint32_t>(i));

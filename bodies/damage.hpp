@@ -1,7 +1,8 @@
 #pragma once
 // Bond failure (MODEL.md section 4). Only bonds fail; the two- and three-neighbour factors d2,
-// d3 follow from the bonds of the centre point and are applied where those sets are enumerated
-// (failed bonds are simply not loaded into the family scratch).
+// d3 follow from the bonds of the centre point (or, under DamageRule::all_edges, from all edges
+// of the set) and are applied where those sets are enumerated (failed bonds are simply not
+// loaded into the family scratch).
 #include <cstdint>
 #include <vector>
 
@@ -32,8 +33,10 @@ std::size_t update_bond_failure(Body& body);
 
 // update_bond_failure with energy bookkeeping: also returns the strain energy the failures
 // removed, sum over the end points p of failing bonds of V^p (W^p before - W^p after), where W^p
-// is p's own-family energy density W1/2 + W2/3 + W3/4. Only the two ends of a bond see their
-// sums change: d2 and d3 depend on the centre's bonds alone.
+// is p's own-family energy density W1/2 + W2/3 + W3/4. Under DamageRule::centre_bonds only the
+// two ends of a bond see their sums change (d2 and d3 depend on the centre's bonds alone); under
+// all_edges the sets through the bond leave the sums of all their vertices, and those are
+// evaluated too. Bond-only bodies have no such sets: the rule changes nothing there.
 //
 // Which bonds fail is decided at the current displacement u. The lost energy is booked at
 // u - half_drift * velocity: with `half_drift` = dt/2 and `velocity` holding the drift velocity
@@ -43,9 +46,10 @@ std::size_t update_bond_failure(Body& body);
 // leaves the system is the interaction's energy at the midpoint, to second order in dt. Booking
 // it at the end of the step (half_drift = 0) leaves a first-order error per failure that adds
 // up to a fifth of the dissipated energy at the default step (tests/test_energy_balance.cpp).
-// The damaged model's forces are not the gradient of one potential when C2 or C3 is non-zero
-// (a set stays active for vertices whose own bonds survive), so a balance with damage there
-// closes only approximately; see docs/VALIDATION.md.
+// Under DamageRule::centre_bonds the damaged model's forces are not the gradient of one potential
+// when C2 or C3 is non-zero (a set stays active for vertices whose own bonds survive), so a
+// balance with damage there closes only approximately; under all_edges each set is switched as a
+// whole and the balance closes to second order in dt (docs/VALIDATION.md).
 struct FailureUpdate {
   std::size_t failed = 0;  // bonds, each counted once
   double dissipated = 0;   // J (J/m in 2D)

@@ -3,6 +3,7 @@
 // (MODEL.md section 2): unordered pairs a < b and triples a < b < c of family slots whose
 // members are pairwise within the horizon. Adjacency between slots is kept as bit rows so the
 // triple candidates of a pair are one AND of two rows. One scratch per thread; it only grows.
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <vector>
@@ -15,7 +16,9 @@ class FamilyScratch {
  public:
   // Loads point i's family: reference offsets dX, current offsets dx = dX + (u_j - u_i)
   // (added in this order so that small displacements keep their precision), reference lengths
-  // and, when `pairs_needed`, the adjacency rows. With `intact_only`, failed bonds are left out.
+  // and, when `pairs_needed`, the adjacency rows. With `intact_only`, failed bonds are left out;
+  // under DamageRule::all_edges, so is the adjacency of two slots whose own bond has failed,
+  // which leaves out every triangle and tetrahedron with a failed edge.
   void load(const Body& body, std::size_t i, bool intact_only, bool pairs_needed) {
     const std::size_t begin = body.family.offset[i], end = body.family.offset[i + 1];
     const Vec3 Xi = body.reference_position[i],
@@ -26,6 +29,7 @@ class FamilyScratch {
     for (std::size_t k = begin; k < end; ++k) {
       if (intact_only && !body.bond_intact[k]) continue;
       const std::uint32_t j = body.family.neighbour[k];
+      index[size_] = j;
       ref[size_] = body.reference_position[j] - Xi;
       cur[size_] = has_u ? Vec3(ref[size_] + (body.displacement[j] - ui)) : ref[size_];
       length[size_] = ref[size_].norm();
@@ -37,9 +41,11 @@ class FamilyScratch {
     const double limit2 = limit * limit;
     std::fill(adjacency.begin(), adjacency.begin() + static_cast<std::ptrdiff_t>(size_ * words_),
               0);
+    const bool edges_intact = intact_only && body.damage_rule == DamageRule::all_edges;
     for (std::size_t a = 0; a < size_; ++a) {
       for (std::size_t b = a + 1; b < size_; ++b) {
-        if ((ref[b] - ref[a]).squaredNorm() <= limit2) {
+        if ((ref[b] - ref[a]).squaredNorm() <= limit2 &&
+            (!edges_intact || !bond_failed(body, index[a], index[b]))) {
           adjacency[a * words_ + b / 64] |= std::uint64_t{1} << (b % 64);
           adjacency[b * words_ + a / 64] |= std::uint64_t{1} << (a % 64);
         }
@@ -84,8 +90,19 @@ class FamilyScratch {
 
   std::vector<Vec3> ref, cur;
   std::vector<double> length;
+  std::vector<std::uint32_t> index;  // each slot's point
 
  private:
+  // Whether j and k are bonded and that bond has failed, from j's sorted CSR row.
+  static bool bond_failed(const Body& body, std::uint32_t j, std::uint32_t k) {
+    const auto begin =
+        body.family.neighbour.begin() + static_cast<std::ptrdiff_t>(body.family.offset[j]);
+    const auto end =
+        body.family.neighbour.begin() + static_cast<std::ptrdiff_t>(body.family.offset[j + 1]);
+    const auto it = std::lower_bound(begin, end, k);
+    return it != end && *it == k &&
+           !body.bond_intact[static_cast<std::size_t>(it - body.family.neighbour.begin())];
+  }
   // Mask of the bits of word w whose slot index is > s.
   static std::uint64_t above(std::size_t s, std::size_t w) {
     if (s / 64 < w) return ~std::uint64_t{0};
@@ -96,6 +113,7 @@ class FamilyScratch {
     if (ref.size() < n) {
       ref.resize(n);
       cur.resize(n);
+      index.resize(n);
       length.resize(n);
     }
     const std::size_t w = (n + 63) / 64;

@@ -120,6 +120,8 @@ struct Context {
   const std::uint8_t* row_failed = nullptr;
 
   bool bond_intact(std::size_t k) const { return intact == nullptr || intact[k] != 0; }
+  // DamageRule::all_edges with damage on: a set is active for all its vertices or none.
+  bool all_edges = false;
 };
 
 inline bool bit(const std::uint64_t* row, std::size_t s) {
@@ -510,8 +512,12 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
                                        stencil_row & ((std::uint64_t{1} << (b & 63)) - 1)))
                      : 0;
         const bool own_b = bit(own, b), bond_ab = bit(ia, b);
-        // Which vertices have both (all) of their bonds in the set intact (d2, d3).
-        const bool act_i = own_a && own_b, act_j = own_a && bond_ab, act_k = own_b && bond_ab;
+        // Which vertices have both (all) of their bonds in the set intact (d2, d3); under
+        // all_edges, every vertex needs all three edges of the triangle intact.
+        const bool edges_ab = own_a && own_b && bond_ab;
+        const bool act_i = ctx.all_edges ? edges_ab : own_a && own_b;
+        const bool act_j = ctx.all_edges ? edges_ab : own_a && bond_ab;
+        const bool act_k = ctx.all_edges ? edges_ab : own_b && bond_ab;
         const double Pb[3] = {Rx[b], Ry[b], Rz[b]};
         const double pb[3] = {rx[b], ry[b], rz[b]};
         // Reference and current cross products of the (a, b) edge pair: the triangle's area
@@ -713,8 +719,11 @@ void process_point(const Context& ctx, std::size_t i, SymmetricKernelThread& t) 
                                   static_cast<std::size_t>(std::popcount(
                                       triple_row[wc] & ((std::uint64_t{1} << (c & 63)) - 1)))];
           };
-          const std::uint64_t mi = act_i ? own[wc] : 0, mj = act_j ? ia[wc] : 0,
-                              mk = act_k ? ib[wc] : 0, ml = own[wc] & ia[wc] & ib[wc];
+          // Per vertex, the c whose tetrahedron it sees with its three bonds intact. Under
+          // all_edges all six edges must be intact (i's three, a-b, a-c, b-c), for every vertex.
+          const std::uint64_t ml = ctx.all_edges && !edges_ab ? 0 : own[wc] & ia[wc] & ib[wc];
+          std::uint64_t mi = act_i ? own[wc] : 0, mj = act_j ? ia[wc] : 0, mk = act_k ? ib[wc] : 0;
+          if (ctx.all_edges) mi = mj = mk = ml;
           std::uint64_t full = cand & mi & mj & mk & ml;
           std::uint64_t part = cand & (mi | mj | mk | ml) & ~full;
           for (; full; full &= full - 1) {
@@ -836,6 +845,7 @@ Context make_context(const Body& body) {
   ctx.offset = body.family.offset.data();
   ctx.neighbour = body.family.neighbour.data();
   ctx.intact = body.damage_enabled ? body.bond_intact.data() : nullptr;
+  ctx.all_edges = ctx.intact != nullptr && body.damage_rule == DamageRule::all_edges;
   ctx.pairs = body.has_pairs();
   ctx.triples = body.has_triples();
   ctx.c1 = body.constants.c1;

@@ -8,6 +8,7 @@
 //   bond {i,j}:        c1 (1/L - 1/l) dx^ic dV1^c              (if the bond is intact)
 //   triangle {i,j,k}:  -2 C2 dV2^c (|a|/A - 1) d|a|/dx^c         (if c's two bonds are intact)
 //   tetrahedron:       -6 C3 dV3^c (v/|V| - sign v) dv/dx^c      (if c's three bonds are intact)
+// or, under DamageRule::all_edges, if all three (six) edges of the set are intact.
 // A set is left out for vertex c exactly when the reference leaves it out of c's family: the
 // degeneracy test is made from c's own perspective (MODEL.md section 1), with a screen that
 // decides without the extra arithmetic whenever the answer cannot differ between vertices.

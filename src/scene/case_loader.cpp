@@ -155,6 +155,12 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
     def.inversion_penalty = f->as_double();
     if (!(def.inversion_penalty >= 0)) f->fail("a penalty factor >= 0 (0: off, 1: signed volume)");
   }
+  if (auto f = n.optional("damage_rule")) {
+    // Which failed bonds switch a triangle or tetrahedron off (BodyDefinition::damage_rule).
+    const std::string rule = f->as_string();
+    if (rule != "centre_bonds" && rule != "all_edges") f->fail("'centre_bonds' or 'all_edges'");
+    def.damage_rule = damage_rule_from_string(rule);
+  }
   // lattice_stencil: false keeps the general kernel path on a lattice body (comparisons).
   if (auto f = n.optional("lattice_stencil")) def.lattice_stencil = f->as_bool();
   // constants: analytic (MODEL.md section 3, default) or calibrated to the lattice's patch test
