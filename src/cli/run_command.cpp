@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <iostream>
@@ -45,7 +46,7 @@ void print_setup(const Simulation& sim, std::ostream& os) {
        << b.total_three_neighbour() << ", dx " << sb.spacing << " m, horizon " << b.horizon
        << " m, C1 " << b.constants.c1 << ", C2 " << b.constants.c2 << ", C3 " << b.constants.c3
        << ", critical stretch " << (b.damage_enabled ? std::to_string(b.critical_stretch) : "none")
-       << '\n';
+       << (b.damage_enabled ? ", damage rule " + to_string(b.damage_rule) : "") << '\n';
     if (const std::string note = beta_setup_note(b); !note.empty()) os << note << '\n';
     os << "  kernel: " << kernel_path_note(b) << '\n';
   }
@@ -53,6 +54,7 @@ void print_setup(const Simulation& sim, std::ostream& os) {
   os << "time step: estimate " << s.estimate << " s (body '" << s.limiting_body << "', point "
      << s.limiting_point << "), " << (s.user_dt ? "case dt " : "safety ") << s.safety
      << " x estimate -> dt " << s.dt << " s, " << sim.planned_steps() << " steps\n";
+  if (std::isfinite(s.speed_step)) os << "  " << contact_speed_note(s) << '\n';
 }
 
 int run(const RunOptions& opt) {
@@ -145,6 +147,12 @@ int run(const RunOptions& opt) {
         return 130;
       }
     }
+  } catch (const TunnellingError& e) {
+    progress.finish();
+    history.write_row(sim);
+    write_json(out + "/summary.json", summary("tunnelling", e.what()));
+    std::cerr << "ckpd: " << e.what() << "\nckpd: results up to that step are in " << out << '\n';
+    return 3;
   } catch (const InstabilityError& e) {
     progress.finish();
     history.write_row(sim);

@@ -71,6 +71,33 @@ double half_work_increment(const Body& b, double dt) {
   return total;
 }
 
+// The fastest any point of the body is set to move by its conditions (initial and prescribed
+// velocities) or its rigid motion, before the run starts.
+double initial_speed(const SceneBody& sb) {
+  double v = 0;
+  for (const auto& c : sb.conditions) v = std::max(v, c->max_speed());
+  if (sb.rigid) v = std::max(v, sb.rigid->max_speed(sb.body));
+  return v;
+}
+
+struct ContactPairRadius {
+  std::size_t a = 0, b = 0;
+  double radius = 0;
+};
+
+// The body pairs (a <= b; equal: self-contact) that have a contact law, with their l_c.
+std::vector<ContactPairRadius> contact_pair_radii(const Scene& scene) {
+  std::vector<ContactPairRadius> pairs;
+  if (!scene.contact.present) return pairs;
+  // The contact library reads the bodies only; the pointers are not kept.
+  const std::vector<ContactBody> bodies = contact_bodies(const_cast<Scene&>(scene));
+  for (std::size_t a = 0; a < bodies.size(); ++a)
+    for (std::size_t b = a; b < bodies.size(); ++b)
+      if (const std::optional<PairLaw> law = scene.contact.law(bodies, a, b))
+        pairs.push_back({a, b, law->radius});
+  return pairs;
+}
+
 }  // namespace
 
 StepChoice choose_time_step(const Scene& scene) {
@@ -91,6 +118,18 @@ StepChoice choose_time_step(const Scene& scene) {
   }
   if (!std::isfinite(c.estimate))
     throw std::invalid_argument("no body has any interaction: the stable step is unbounded");
+  // Contact tunnelling: two bodies closing at v_a + v_b cover that times dt per step.
+  for (const ContactPairRadius& p : contact_pair_radii(scene)) {
+    const double closing = initial_speed(scene.bodies[p.a]) + initial_speed(scene.bodies[p.b]);
+    if (!(closing > 0)) continue;
+    const double bound = kContactStepFraction * p.radius / closing;
+    if (bound < c.speed_step) {
+      c.speed_step = bound;
+      c.closing_speed = closing;
+      c.contact_radius = p.radius;
+      c.speed_pair = scene.bodies[p.a].body.name + "/" + scene.bodies[p.b].body.name;
+    }
+  }
   if (scene.time.dt) {
     c.dt = *scene.time.dt;
     c.user_dt = true;
@@ -101,11 +140,33 @@ StepChoice choose_time_step(const Scene& scene) {
           << "time.allow_unstable_dt: true to force it";
       throw std::invalid_argument(msg.str());
     }
+    if (c.dt > c.speed_step && !scene.time.allow_unstable_dt) {
+      std::ostringstream msg;
+      msg << "time.dt = " << c.dt << " s exceeds the contact speed bound " << c.speed_step << " s ("
+          << kContactStepFraction << " x l_c = " << c.contact_radius << " m over the "
+          << "closing speed " << c.closing_speed << " m/s of bodies " << c.speed_pair
+          << "): contact could tunnel; lower it, use dt: auto, or set "
+          << "time.allow_unstable_dt: true to force it";
+      throw std::invalid_argument(msg.str());
+    }
   } else {
     c.dt = scene.time.safety * c.estimate;
+    if (c.speed_step < c.dt) {
+      c.dt = c.speed_step;
+      c.speed_limited = true;
+    }
   }
   c.safety = c.dt / c.estimate;
   return c;
+}
+
+std::string contact_speed_note(const StepChoice& c) {
+  std::ostringstream s;
+  s << "contact speed bound: " << kContactStepFraction << " x l_c " << c.contact_radius
+    << " m / closing speed " << c.closing_speed << " m/s (bodies " << c.speed_pair
+    << ") = " << c.speed_step << " s";
+  if (c.speed_limited) s << "; dt lowered to it (below the safety x stable-step estimate)";
+  return s.str();
 }
 
 Simulation::Simulation(Scene& scene) : scene_(scene) {
@@ -135,6 +196,11 @@ Simulation::Simulation(Scene& scene) : scene_(scene) {
   // No material point of a stable run moves at ten times the fastest wave or load speed.
   speed_limit_ = 10 * max_speed;
   for (const SceneBody& sb : scene_.bodies) initially_failed_.push_back(failed_bond_count(sb.body));
+  contact_radius_.assign(scene_.bodies.size(), std::numeric_limits<double>::infinity());
+  for (const ContactPairRadius& p : contact_pair_radii(scene_)) {
+    contact_radius_[p.a] = std::min(contact_radius_[p.a], p.radius);
+    contact_radius_[p.b] = std::min(contact_radius_[p.b], p.radius);
+  }
   inverted_.assign(scene_.bodies.size(), 0);
   contact_ = make_contact_manager(scene_);
   evaluate_forces(true);
@@ -232,7 +298,8 @@ void Simulation::advance(bool with_energy) {
   time_ = static_cast<double>(step_ + 1) * dt;
   ++step_;
   evaluate_forces(with_energy);
-  for (SceneBody& sb : scene_.bodies) {
+  for (std::size_t index = 0; index < scene_.bodies.size(); ++index) {
+    SceneBody& sb = scene_.bodies[index];
     Body& b = sb.body;
     external_work_ += half_work_increment(b, dt);
     // A rigid body's point velocities follow from its own kick; the loop below only checks them.
@@ -284,6 +351,20 @@ void Simulation::advance(bool with_energy) {
             << " m/s (ten times the fastest wave or load speed)";
       msg << "; dt = " << dt << " s is " << step_choice_.safety << " x the stable-step estimate";
       throw InstabilityError(msg.str());
+    }
+    // Tunnelling: the fastest point covers |v| dt per step (the end-of-step speed, which the
+    // next drift uses, found in the loop above at no extra cost).
+    const double reach = std::sqrt(worst) * dt;
+    if (reach > kTunnellingFraction * contact_radius_[index]) {
+      std::ostringstream msg;
+      msg << "contact tunnelling at step " << step_ << ", t = " << time_ << " s: body '" << b.name
+          << "', point " << worst_point << " at reference "
+          << format_position(b.reference_position[worst_point], b.dimension) << " moves " << reach
+          << " m per step (" << std::sqrt(worst) << " m/s), more than " << kTunnellingFraction
+          << " x its smallest contact radius l_c = " << contact_radius_[index]
+          << " m; lower dt (the contact speed bound at the start is " << step_choice_.speed_step
+          << " s)";
+      throw TunnellingError(msg.str());
     }
   }
   if (with_energy) check_energy();

@@ -2,6 +2,7 @@
 // Velocity-Verlet time integration of all bodies (MODEL.md section 6), the stable-step choice,
 // energy bookkeeping and the instability guard.
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -26,11 +27,41 @@ struct StepChoice {
   std::string limiting_body;
   std::size_t limiting_point = 0;
   Vec3 limiting_position = Vec3::Zero();
+  // Contact tunnelling bound (kContactStepFraction l_c / closing speed) from the fastest pair
+  // of bodies in contact: infinite without contact or motion.
+  double speed_step = std::numeric_limits<double>::infinity();
+  double closing_speed = 0;    // m/s: the two bodies' largest initial speeds added
+  double contact_radius = 0;   // m: that pair's l_c
+  std::string speed_pair;      // "a/b"
+  bool speed_limited = false;  // dt = speed_step (below safety x estimate)
+};
+
+// Per step, a point may close at most this fraction of the contact radius l_c on a partner at
+// the start of a run. The contact force grows linearly over the shell l_c - r, and the
+// integrator samples it once per step: at l_c/4 per step a point meeting another head-on is
+// pushed in at least four steps before the two could coincide (r = 0, where the force's
+// direction is lost), and no step can carry a point across the 2 l_c wide shell around a
+// partner without it being seen there. Larger fractions were the tunnelling seen in the stress
+// table's fast impacts (docs/STABILITY.md).
+inline constexpr double kContactStepFraction = 0.25;
+// During the run, a point of a body in contact that moves more than this fraction of its
+// smallest l_c in one step stops the run (TunnellingError): contact can no longer be trusted.
+inline constexpr double kTunnellingFraction = 0.5;
+
+// A point of a body in contact moved too far in one step (kTunnellingFraction).
+class TunnellingError : public InstabilityError {
+ public:
+  using InstabilityError::InstabilityError;
 };
 
 // Chooses dt for the scene: safety x estimate, or the case's dt (refused when it exceeds the
-// estimate unless allow_unstable_dt). Throws std::invalid_argument when refused.
+// estimate unless allow_unstable_dt). The contact speed bound (StepChoice::speed_step) is
+// handled the same way: an automatic dt is lowered to it (speed_limited, reported), a case's dt
+// above it is refused unless allow_unstable_dt. Throws std::invalid_argument when refused.
 StepChoice choose_time_step(const Scene& scene);
+
+// One line on the contact speed bound for the set-up reports (call when it is finite).
+std::string contact_speed_note(const StepChoice& choice);
 
 struct Energies {
   double kinetic = 0;
@@ -115,6 +146,8 @@ class Simulation {
   std::uint64_t max_inverted_ = 0;
   InversionRecord first_inversion_;
   double speed_limit_ = 0;
+  // Per body: the smallest l_c of the contact pairs it is in (+inf: none).
+  std::vector<double> contact_radius_;
   std::unique_ptr<ContactManager> contact_;
   double body_force_seconds_ = 0;
 };

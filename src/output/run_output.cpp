@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
@@ -144,6 +145,15 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
   j["dt_estimate"] = s.estimate;
   j["dt_safety"] = s.safety;
   j["dt_limited_by"] = {{"body", s.limiting_body}, {"point", s.limiting_point}};
+  // The contact speed bound (null without contact or motion) and whether dt was lowered to it.
+  j["dt_contact_speed_bound"] = std::isfinite(s.speed_step)
+                                    ? nlohmann::ordered_json{{"dt", s.speed_step},
+                                                             {"closing_speed", s.closing_speed},
+                                                             {"contact_radius", s.contact_radius},
+                                                             {"bodies", s.speed_pair},
+                                                             {"fraction", kContactStepFraction},
+                                                             {"limits_dt", s.speed_limited}}
+                                    : nlohmann::ordered_json(nullptr);
   j["wall_seconds"] = wall_seconds;
   j["peak_rss_mb"] = peak_rss_mb();
   j["max_damage"] = sim.max_damage();
