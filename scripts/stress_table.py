@@ -36,6 +36,8 @@ def impact(speed):
     return ["conditions.0.value=[0,0,%g]" % -speed, "time.end=%g" % (0.003 / speed)]
 
 
+ALL_EDGES = ["bodies.sphere.damage_rule=all_edges", "bodies.plate.damage_rule=all_edges"]
+
 # (name, case file, --set overrides, what the row stresses)
 RUNS = [
     ("contact_1e3GPa", "contact_stiffness.yaml", ["contact.stiffness=1e12"],
@@ -71,6 +73,17 @@ RUNS = [
      "two-layer plate, same load"),
     ("mismatch", "mismatch.yaml", [],
      "fine steel sphere (dx 0.5 mm) into coarse polymer (dx 2 mm, E 70 x lower) at 50 m/s"),
+    # The fracture rows again with the conservative damage rule (README, `damage_rule`) on
+    # every body that breaks (the sphere breaks too).
+    ("impact_100_all_edges", "impact_speed.yaml", impact(100) + ALL_EDGES,
+     "impact_100 with damage_rule all_edges"),
+    ("impact_500_all_edges", "impact_speed.yaml", impact(500) + ALL_EDGES,
+     "impact_500 with damage_rule all_edges"),
+    ("impact_2000_all_edges", "impact_speed.yaml", impact(2000) + ALL_EDGES,
+     "impact_2000 with damage_rule all_edges"),
+    ("thin_2_layers_all_edges", "thin_plate.yaml",
+     ["bodies.plate.geometry.min=[-0.012,-0.012,-0.001]", "bodies.plate.damage_rule=all_edges"],
+     "thin_2_layers with damage_rule all_edges"),
 ]
 
 
