@@ -183,6 +183,27 @@ unsigned tetrahedron_mask(const Context& ctx, double volume, std::uint32_t i, st
   return tetrahedron_mask_exact(ctx, i, j, k, l);
 }
 
+// Slot a of point i's scratch for neighbour j: reference and current offsets (the same
+// operations as FamilyScratch::load, so the centre i sees the same numbers), the neighbour's
+// weights, and cleared accumulators.
+inline void fill_slot(const Context& ctx, SymmetricKernelThread& t, std::size_t a, std::uint32_t j,
+                      const Vec3& Xi, const Vec3& ui) {
+  const Body& body = *ctx.body;
+  const Vec3 R = ctx.X[j] - Xi;
+  const Vec3 r = ctx.u ? Vec3(R + (ctx.u[j] - ui)) : R;
+  t.Rx[a] = R.x();
+  t.Ry[a] = R.y();
+  t.Rz[a] = R.z();
+  t.rx[a] = r.x();
+  t.ry[a] = r.y();
+  t.rz[a] = r.z();
+  t.k2[a] = 2 * ctx.c2 * body.dv2[j];
+  t.e2[a] = ctx.c2 * body.dv2[j] / 3;
+  t.k3[a] = 6 * ctx.c3 * body.dv3[j];
+  t.e3[a] = 0.75 * ctx.c3 * body.dv3[j];
+  t.fx[a] = t.fy[a] = t.fz[a] = t.w[a] = 0;
+}
+
 // Loads point i's upper family into the scratch: offsets, intact bits, per-slot weights and,
 // with `rows`, the adjacency between slots. Adjacency comes from the CSR rows, not from
 // distances: slot b is in row a iff up[b] is in H1(up[a]), found by merging the two sorted
@@ -200,7 +221,6 @@ std::size_t load_upper_family(const Context& ctx, std::size_t i, SymmetricKernel
   const std::size_t W = (m + 63) / 64;
   t.words = W;
   t.reserve(m, W);
-  const Body& body = *ctx.body;
   const Vec3 Xi = ctx.X[i];
   const Vec3 ui = ctx.u ? ctx.u[i] : Vec3::Zero();
   std::fill_n(t.own.begin(), W, 0);
@@ -212,21 +232,8 @@ std::size_t load_upper_family(const Context& ctx, std::size_t i, SymmetricKernel
     const std::uint32_t j = nb[first + a];
     t.up[a] = j;
     t.list[a] = static_cast<std::uint32_t>(a);
-    // Same operations as FamilyScratch::load, so the centre i sees the same numbers.
-    const Vec3 R = ctx.X[j] - Xi;
-    const Vec3 r = ctx.u ? Vec3(R + (ctx.u[j] - ui)) : R;
-    t.Rx[a] = R.x();
-    t.Ry[a] = R.y();
-    t.Rz[a] = R.z();
-    t.rx[a] = r.x();
-    t.ry[a] = r.y();
-    t.rz[a] = r.z();
+    fill_slot(ctx, t, a, j, Xi, ui);
     if (ctx.bond_intact(first + a)) set_bit(t.own.data(), a);
-    t.k2[a] = 2 * ctx.c2 * body.dv2[j];
-    t.e2[a] = ctx.c2 * body.dv2[j] / 3;
-    t.k3[a] = 6 * ctx.c3 * body.dv3[j];
-    t.e3[a] = 0.75 * ctx.c3 * body.dv3[j];
-    t.fx[a] = t.fy[a] = t.fz[a] = t.w[a] = 0;
   }
   if (!rows) return m;
   std::fill_n(t.adj.begin(), m * W, 0);
@@ -275,7 +282,6 @@ std::size_t load_upper_family_stencil(const Context& ctx, std::size_t i, Symmetr
   t.m = M;
   t.words = W;
   t.reserve(M, W);
-  const Body& body = *ctx.body;
   const Vec3 Xi = ctx.X[i];
   const Vec3 ui = ctx.u ? ctx.u[i] : Vec3::Zero();
   std::fill_n(t.own.begin(), W, 0);
@@ -288,20 +294,8 @@ std::size_t load_upper_family_stencil(const Context& ctx, std::size_t i, Symmetr
     t.list[n] = static_cast<std::uint32_t>(a);
     t.csr[a] = first + n;
     set_bit(t.present.data(), a);
-    const Vec3 R = ctx.X[j] - Xi;
-    const Vec3 r = ctx.u ? Vec3(R + (ctx.u[j] - ui)) : R;
-    t.Rx[a] = R.x();
-    t.Ry[a] = R.y();
-    t.Rz[a] = R.z();
-    t.rx[a] = r.x();
-    t.ry[a] = r.y();
-    t.rz[a] = r.z();
+    fill_slot(ctx, t, a, j, Xi, ui);
     if (ctx.bond_intact(first + n)) set_bit(t.own.data(), a);
-    t.k2[a] = 2 * ctx.c2 * body.dv2[j];
-    t.e2[a] = ctx.c2 * body.dv2[j] / 3;
-    t.k3[a] = 6 * ctx.c3 * body.dv3[j];
-    t.e3[a] = 0.75 * ctx.c3 * body.dv3[j];
-    t.fx[a] = t.fy[a] = t.fz[a] = t.w[a] = 0;
     if (ctx.row_failed != nullptr) failed_near = failed_near || ctx.row_failed[j] != 0;
   }
   if (!rows) return count;
