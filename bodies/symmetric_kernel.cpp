@@ -33,10 +33,9 @@ struct SymmetricKernelThread {
   std::size_t m = 0, words = 0;
   // The slots that hold a neighbour, as a bit row and in increasing order (`count` of them):
   // all of 0..m-1 on the general path; on the stencil path, slots are the stencil's upper
-  // offsets and those outside the body are absent. `csr`: each present slot's CSR position.
+  // offsets and those outside the body are absent.
   std::vector<std::uint64_t> present;
   std::vector<std::uint32_t> list;
-  std::vector<std::size_t> csr;
   std::size_t count = 0;
   // The intact rows are the adjacency rows (no failed bond among i and its upper neighbours).
   bool intact_is_adjacency = false;
@@ -49,7 +48,6 @@ struct SymmetricKernelThread {
         v->resize(slots);
       up.resize(slots);
       list.resize(slots);
-      csr.resize(slots);
     }
     if (own.size() < row_words) {
       own.resize(row_words);
@@ -204,6 +202,41 @@ inline void fill_slot(const Context& ctx, SymmetricKernelThread& t, std::size_t 
   t.fx[a] = t.fy[a] = t.fz[a] = t.w[a] = 0;
 }
 
+// Rows by merging CSR rows: for each present slot a (in list order) and each later present slot
+// b, whether up[b] is in H1(up[a]) (into `adjacency`, when given) and whether that bond is intact
+// (into adj_intact), found by merging the two sorted index lists; the bond's intact flag is read
+// at the matching CSR position of up[a]'s row.
+void merge_csr_rows(const Context& ctx, SymmetricKernelThread& t, std::uint64_t* adjacency) {
+  const std::uint32_t* nb = ctx.neighbour;
+  const std::size_t W = t.words, count = t.count;
+  for (std::size_t n = 0; n < count; ++n) {
+    const std::size_t a = t.list[n];
+    std::uint64_t* row = adjacency != nullptr ? adjacency + a * W : nullptr;
+    std::uint64_t* irow = &t.adj_intact[a * W];
+    std::fill_n(irow, W, 0);
+    if (row != nullptr) std::fill_n(row, W, 0);
+    if (n + 1 == count) break;
+    const std::uint32_t j = t.up[a];
+    const std::size_t jend = ctx.offset[j + 1];
+    std::size_t kk = static_cast<std::size_t>(
+        std::upper_bound(nb + ctx.offset[j], nb + jend, t.up[t.list[n + 1]] - 1) - nb);
+    std::size_t q = n + 1;
+    while (kk < jend && q < count) {
+      const std::uint32_t x = nb[kk], y = t.up[t.list[q]];
+      if (x == y) {
+        if (row != nullptr) set_bit(row, t.list[q]);
+        if (ctx.bond_intact(kk)) set_bit(irow, t.list[q]);
+        ++kk;
+        ++q;
+      } else if (x < y) {
+        ++kk;
+      } else {
+        ++q;
+      }
+    }
+  }
+}
+
 // Loads point i's upper family into the scratch: offsets, intact bits, per-slot weights and,
 // with `rows`, the adjacency between slots. Adjacency comes from the CSR rows, not from
 // distances: slot b is in row a iff up[b] is in H1(up[a]), found by merging the two sorted
@@ -236,30 +269,7 @@ std::size_t load_upper_family(const Context& ctx, std::size_t i, SymmetricKernel
     if (ctx.bond_intact(first + a)) set_bit(t.own.data(), a);
   }
   if (!rows) return m;
-  std::fill_n(t.adj.begin(), m * W, 0);
-  std::fill_n(t.adj_intact.begin(), m * W, 0);
-  for (std::size_t a = 0; a + 1 < m; ++a) {
-    const std::uint32_t j = t.up[a];
-    const std::size_t jend = ctx.offset[j + 1];
-    std::size_t kk = static_cast<std::size_t>(
-        std::upper_bound(nb + ctx.offset[j], nb + jend, t.up[a + 1] - 1) - nb);
-    std::size_t b = a + 1;
-    std::uint64_t* row = &t.adj[a * W];
-    std::uint64_t* irow = &t.adj_intact[a * W];
-    while (kk < jend && b < m) {
-      const std::uint32_t x = nb[kk], y = t.up[b];
-      if (x == y) {
-        set_bit(row, b);
-        if (ctx.bond_intact(kk)) set_bit(irow, b);
-        ++kk;
-        ++b;
-      } else if (x < y) {
-        ++kk;
-      } else {
-        ++b;
-      }
-    }
-  }
+  merge_csr_rows(ctx, t, t.adj.data());
   return m;
 }
 
@@ -292,7 +302,6 @@ std::size_t load_upper_family_stencil(const Context& ctx, std::size_t i, Symmetr
     const auto a = static_cast<std::size_t>(st.slot(i, j));
     t.up[a] = j;
     t.list[n] = static_cast<std::uint32_t>(a);
-    t.csr[a] = first + n;
     set_bit(t.present.data(), a);
     fill_slot(ctx, t, a, j, Xi, ui);
     if (ctx.bond_intact(first + n)) set_bit(t.own.data(), a);
@@ -307,30 +316,7 @@ std::size_t load_upper_family_stencil(const Context& ctx, std::size_t i, Symmetr
     for (std::size_t w = 0; w < W; ++w) row[w] = srow[w] & present[w];
   }
   t.intact_is_adjacency = !failed_near;
-  if (!failed_near) return count;
-  for (std::size_t n = 0; n < count; ++n) {
-    const std::size_t a = t.list[n];
-    std::uint64_t* irow = &t.adj_intact[a * W];
-    std::fill_n(irow, W, 0);
-    if (n + 1 == count) break;
-    const std::uint32_t j = t.up[a];
-    const std::size_t jend = ctx.offset[j + 1];
-    std::size_t kk = static_cast<std::size_t>(
-        std::upper_bound(nb + ctx.offset[j], nb + jend, t.up[t.list[n + 1]] - 1) - nb);
-    std::size_t q = n + 1;
-    while (kk < jend && q < count) {
-      const std::uint32_t x = nb[kk], y = t.up[t.list[q]];
-      if (x == y) {
-        if (ctx.bond_intact(kk)) set_bit(irow, t.list[q]);
-        ++kk;
-        ++q;
-      } else if (x < y) {
-        ++kk;
-      } else {
-        ++q;
-      }
-    }
-  }
+  if (failed_near) merge_csr_rows(ctx, t, nullptr);
   return count;
 }
 
@@ -942,15 +928,16 @@ SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_ener
         for (std::size_t i = 0; i < n; ++i) process_point<kEnergy, kPenalty, false>(ctx, i, th);
       }
     };
-    if (with_energy && penalty)
+    if (with_energy && penalty) {
       all_points.template operator()<true, true>();
-    else if (with_energy)
+    } else if (with_energy) {
       all_points.template operator()<true, false>();
-    else if (penalty)
+    } else if (penalty) {
       all_points.template operator()<false, true>();
-    else
+    } else {
       all_points.template operator()<false, false>();
-      // Fixed-order reduction: thread 0, 1, ... for every point.
+    }
+    // Fixed-order reduction: thread 0, 1, ... for every point.
 #pragma omp for schedule(static)
     for (std::size_t p = 0; p < n; ++p) {
       Vec3 f = workspace.thread(0).force[p];
