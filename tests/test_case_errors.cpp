@@ -160,3 +160,12 @@ TEST_CASE("a body's constants must be 'analytic' or 'calibrated'", "[cli][calibr
                           "    horizon_ratio: 3.015\n    constants: fitted\n"),
                   {"case.yaml:11:", "constants", "'analytic' or 'calibrated'"});
 }
+
+TEST_CASE("a body's damage_rule and lattice_stencil take only their named values", "[cli]") {
+  expect_rejected(replace(kGoodCase, "    horizon_ratio: 3.015\n",
+                          "    horizon_ratio: 3.015\n    damage_rule: every_bond\n"),
+                  {"case.yaml:11:", "damage_rule", "'centre_bonds' or 'all_edges'"});
+  expect_rejected(replace(kGoodCase, "    horizon_ratio: 3.015\n",
+                          "    horizon_ratio: 3.015\n    lattice_stencil: maybe\n"),
+                  {"case.yaml:11:", "lattice_stencil", "'maybe'"});
+}
