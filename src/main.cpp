@@ -11,7 +11,7 @@
 #include "src/cli/run_command.hpp"
 #include "src/cli/sweep_command.hpp"
 #include "src/output/checkpoint.hpp"
-#include "src/scene/case_node.hpp"
+#include "src/input/case_node.hpp"
 
 namespace {
 

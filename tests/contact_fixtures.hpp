@@ -6,7 +6,7 @@
 
 #include "run_helpers.hpp"
 #include "src/engine/simulation.hpp"
-#include "src/scene/case_loader.hpp"
+#include "src/case/case_loader.hpp"
 
 namespace ckpd::testing {
 

@@ -23,7 +23,7 @@
 #include "kernel_comparison.hpp"
 #include "run_helpers.hpp"
 #include "src/engine/simulation.hpp"
-#include "src/scene/case_loader.hpp"
+#include "src/case/case_loader.hpp"
 
 using ckpd::Body;
 using ckpd::DamageRule;

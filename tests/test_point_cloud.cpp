@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "run_helpers.hpp"
-#include "src/scene/case_loader.hpp"
+#include "src/case/case_loader.hpp"
 
 using namespace ckpd;
 using namespace ckpd::testing;

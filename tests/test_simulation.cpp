@@ -12,7 +12,7 @@
 #include "bodies/patch_test.hpp"
 #include "run_helpers.hpp"
 #include "src/engine/simulation.hpp"
-#include "src/scene/case_loader.hpp"
+#include "src/case/case_loader.hpp"
 
 using namespace ckpd;
 using namespace ckpd::testing;

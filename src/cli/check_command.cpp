@@ -13,7 +13,7 @@
 #include "src/engine/simulation.hpp"
 #include "src/output/kernel_report.hpp"
 #include "src/output/run_output.hpp"
-#include "src/scene/case_loader.hpp"
+#include "src/case/case_loader.hpp"
 
 namespace ckpd {
 

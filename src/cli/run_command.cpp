@@ -17,7 +17,7 @@
 #include "src/output/kernel_report.hpp"
 #include "src/output/progress.hpp"
 #include "src/output/run_output.hpp"
-#include "src/scene/case_loader.hpp"
+#include "src/case/case_loader.hpp"
 
 namespace ckpd {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "bodies/body.hpp"
-#include "src/scene/case_node.hpp"
+#include "src/input/case_node.hpp"
 
 namespace ckpd {
 

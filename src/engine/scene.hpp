@@ -12,7 +12,7 @@
 #include "contact/mesh_wall.hpp"
 #include "src/engine/condition.hpp"
 #include "src/engine/rigid_body.hpp"
-#include "src/geometry/mesh/mesh_source.hpp"
+#include "src/geometry/mesh/mesh_info.hpp"
 
 namespace ckpd {
 

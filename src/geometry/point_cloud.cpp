@@ -7,7 +7,7 @@
 #include <sstream>
 #include <unordered_map>
 
-#include "src/scene/case_node.hpp"
+#include "src/input/case_node.hpp"
 
 namespace ckpd {
 

@@ -11,7 +11,7 @@
 
 #include "bodies/vec.hpp"
 #include "src/geometry/lattice.hpp"
-#include "src/scene/case_node.hpp"
+#include "src/input/case_node.hpp"
 
 namespace ckpd {
 

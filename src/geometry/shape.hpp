@@ -8,7 +8,7 @@
 #include <string>
 
 #include "bodies/vec.hpp"
-#include "src/scene/case_node.hpp"
+#include "src/input/case_node.hpp"
 
 namespace ckpd {
 

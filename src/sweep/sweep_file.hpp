@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "src/scene/case_node.hpp"
+#include "src/input/case_node.hpp"
 
 namespace ckpd::sweep {
 

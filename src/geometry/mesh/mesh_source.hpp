@@ -7,21 +7,11 @@
 #include <string>
 
 #include "src/geometry/mesh/mesh_check.hpp"
+#include "src/geometry/mesh/mesh_info.hpp"
 #include "src/geometry/mesh/triangle_mesh.hpp"
-#include "src/scene/case_node.hpp"
+#include "src/input/case_node.hpp"
 
 namespace ckpd {
-
-// What `ckpd check` reports of a mesh body.
-struct MeshInfo {
-  std::string file;  // as resolved
-  std::size_t triangles = 0;
-  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // bounding box, m
-  bool closed = false;
-  std::size_t open_edges = 0;
-  double mesh_volume = 0;  // enclosed (signed) volume, m^3
-  bool wall = false;       // a mesh wall (no points inside)
-};
 
 struct LoadedMesh {
   std::shared_ptr<const TriangleMesh> mesh;

@@ -1,9 +1,9 @@
-#include "src/scene/rigid_body_loader.hpp"
+#include "src/case/rigid_body_loader.hpp"
 
 #include "src/geometry/lattice.hpp"
 #include "src/geometry/mesh/mesh_shape.hpp"
 #include "src/geometry/shape.hpp"
-#include "src/scene/mesh_wall_loader.hpp"
+#include "src/case/mesh_wall_loader.hpp"
 
 namespace ckpd {
 

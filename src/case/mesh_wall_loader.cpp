@@ -1,4 +1,4 @@
-#include "src/scene/mesh_wall_loader.hpp"
+#include "src/case/mesh_wall_loader.hpp"
 
 #include "src/geometry/mesh/mesh_properties.hpp"
 

@@ -5,7 +5,7 @@
 #include <optional>
 
 #include "src/engine/scene.hpp"
-#include "src/scene/case_node.hpp"
+#include "src/input/case_node.hpp"
 
 namespace ckpd {
 

@@ -1,4 +1,4 @@
-#include "src/scene/case_loader.hpp"
+#include "src/case/case_loader.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,8 +13,8 @@
 #include "src/geometry/point_cloud.hpp"
 #include "src/geometry/shape.hpp"
 #include "src/output/field_writer.hpp"
-#include "src/scene/contact_loader.hpp"
-#include "src/scene/rigid_body_loader.hpp"
+#include "src/case/contact_loader.hpp"
+#include "src/case/rigid_body_loader.hpp"
 
 namespace ckpd {
 

@@ -1,4 +1,4 @@
-#include "src/scene/contact_loader.hpp"
+#include "src/case/contact_loader.hpp"
 
 #include <stdexcept>
 

@@ -13,7 +13,7 @@
 //       - {bodies: [sphere, disc], radius: 2.0e-3}   # [a, a] is a's self-contact
 #include "contact/contact_settings.hpp"
 #include "src/engine/scene.hpp"
-#include "src/scene/case_node.hpp"
+#include "src/input/case_node.hpp"
 
 namespace ckpd {
 

@@ -1,4 +1,4 @@
-#include "src/scene/case_node.hpp"
+#include "src/input/case_node.hpp"
 
 #include <cmath>
 #include <filesystem>
