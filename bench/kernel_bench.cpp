@@ -28,10 +28,10 @@
 #include <vector>
 
 #include "bodies/body.hpp"
-#include "bodies/internal_force.hpp"
 #include "bodies/lattice_stencil.hpp"
 #include "bodies/material.hpp"
 #include "bodies/symmetric_kernel.hpp"
+#include "reference/internal_force.hpp"
 
 namespace {
 

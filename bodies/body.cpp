@@ -9,9 +9,11 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "bodies/census.hpp"
 #include "bodies/damage.hpp"
 #include "bodies/family_scratch.hpp"
 #include "bodies/lattice_stencil.hpp"
+#include "bodies/symmetric_kernel.hpp"
 
 namespace ckpd {
 
@@ -63,51 +65,6 @@ void check_definition(const BodyDefinition& d) {
     if (msg.str().empty()) return;
   }
   throw std::invalid_argument(msg.str());
-}
-
-// Accumulates the stiffness bound matrix of one interaction: for an energy C/(2 R) (m - R)^2 in
-// a measure m with gradient g_c at each of its points, the contribution to point i is
-// (C/R) (sum_c |g_c|) |g_i| g^_i g^_i^T (a directional Gershgorin bound; see stable_step).
-void add_bound(Mat3& q, double weight, const Vec3& gi, double sum_norms) {
-  const double n = gi.norm();
-  if (n > 0) q += weight * sum_norms / n * (gi * gi.transpose());
-}
-
-struct PointCensus {
-  std::uint32_t n2 = 0, n3 = 0;
-  Mat3 q1 = Mat3::Zero(), q2 = Mat3::Zero(), q3 = Mat3::Zero();  // per unit C dV
-};
-
-PointCensus census_point(const FamilyScratch& s, bool pairs, bool triples, double degenerate) {
-  PointCensus c;
-  for (std::size_t a = 0; a < s.size(); ++a) {
-    const Vec3 n = s.ref[a] / s.length[a];
-    c.q1 += 2.0 / s.length[a] * (n * n.transpose());
-  }
-  if (pairs) {
-    s.for_each_pair([&](std::size_t a, std::size_t b) {
-      const Vec3 p = s.ref[a], q = s.ref[b];
-      const Vec3 area = p.cross(q);
-      const double A = area.norm();
-      if (A <= degenerate * s.length[a] * s.length[b]) return;
-      c.n2 += 2;
-      const Vec3 unit = area / A;
-      const Vec3 gi = (p - q).cross(unit), gj = q.cross(unit), gk = unit.cross(p);
-      add_bound(c.q2, 2.0 / A, gi, gi.norm() + gj.norm() + gk.norm());
-    });
-  }
-  if (triples) {
-    s.for_each_triple([&](std::size_t a, std::size_t b, std::size_t d) {
-      const Vec3 p = s.ref[a], q = s.ref[b], r = s.ref[d];
-      const Vec3 hj = q.cross(r), hk = r.cross(p), hl = p.cross(q);
-      const double V = std::abs(p.dot(hj));
-      if (V <= degenerate * s.length[a] * s.length[b] * s.length[d]) return;
-      c.n3 += 6;
-      const Vec3 hi = -(hj + hk + hl);
-      add_bound(c.q3, 6.0 / V, hi, hi.norm() + hj.norm() + hk.norm() + hl.norm());
-    });
-  }
-  return c;
 }
 
 // A point's family as the sorted list of its reference offsets in units of horizon * 2^-30.
@@ -183,6 +140,7 @@ Body make_body(BodyDefinition def) {
   body.degenerate_fraction = def.degenerate_fraction;
   body.inversion_penalty = def.inversion_penalty;
   body.damage_rule = def.damage_rule;
+  body.model = def.model;
   body.reference_position = std::move(def.reference_position);
   body.volume = std::move(def.volume);
   body.no_failure = std::move(def.no_failure);
@@ -245,7 +203,7 @@ Body make_body(BodyDefinition def) {
 #pragma omp for schedule(dynamic, 1)
     for (std::size_t g = 0; g < representative.size(); ++g) {
       scratch.load(body, representative[g], false, pairs || triples);
-      census[g] = census_point(scratch, pairs, triples, body.degenerate_fraction);
+      census[g] = force_model(body).census(body, scratch);
     }
   }
 
@@ -300,6 +258,7 @@ Body make_body(BodyDefinition def) {
   body.force_density.assign(n, Vec3::Zero());
   body.strain_energy_density.assign(n, 0.0);
 
+  body.screens = set_screens(body);
   for (const Precrack& crack : def.precracks) apply_precrack(body, crack);
   if (def.lattice_stencil) {
     StencilBuild stencil = build_lattice_stencil(body);
@@ -314,14 +273,19 @@ Body make_body(BodyDefinition def) {
 StiffnessTerms stiffness_terms(const Body& body, std::size_t i) {
   FamilyScratch scratch;
   scratch.load(body, i, false, body.has_pairs() || body.has_triples());
-  const PointCensus c =
-      census_point(scratch, body.has_pairs(), body.has_triples(), body.degenerate_fraction);
+  const PointCensus c = force_model(body).census(body, scratch);
   auto largest = [](const Mat3& m) {
     return Eigen::SelfAdjointEigenSolver<Mat3>(m, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
   };
   return {largest(std::abs(body.constants.c1) * body.dv1[i] * c.q1),
           largest(std::abs(body.constants.c2) * body.dv2[i] * c.q2),
           largest(std::abs(body.constants.c3) * body.dv3[i] * c.q3)};
+}
+
+double strain_energy(const Body& body) {
+  double e = 0;
+  for (std::size_t i = 0; i < body.size(); ++i) e += body.strain_energy_density[i] * body.volume[i];
+  return e;
 }
 
 StableStep stable_step(const Body& body) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bodies/bond_family.hpp"
+#include "bodies/force_model.hpp"
 #include "bodies/material.hpp"
 #include "bodies/vec.hpp"
 
@@ -78,6 +79,16 @@ struct BodyDefinition {
   // general kernel path (for comparisons).
   bool lattice_stencil = true;
   DamageRule damage_rule = DamageRule::centre_bonds;
+  // The force model (force_model.hpp); null: CKPD. `constants` are its per-family constants.
+  const ForceModelKernels* model = nullptr;
+};
+
+// The symmetric kernel's degeneracy screens (symmetric_kernel.hpp), fixed by the reference
+// configuration: |A| > hi2 (|V| > hi3) is non-degenerate for every vertex, < lo2 (lo3)
+// degenerate for every vertex, in between each vertex decides; above well2 (well3) a set is
+// evaluated once with shared geometry, below each vertex evaluates its own term.
+struct SetScreens {
+  double hi2 = 0, lo2 = 0, hi3 = 0, lo3 = 0, well2 = 0, well3 = 0;
 };
 
 struct Body {
@@ -92,6 +103,7 @@ struct Body {
   double degenerate_fraction = kDegenerateFraction;   // BodyDefinition::degenerate_fraction
   double inversion_penalty = 0;                       // BodyDefinition::inversion_penalty
   DamageRule damage_rule = DamageRule::centre_bonds;  // BodyDefinition::damage_rule
+  const ForceModelKernels* model = nullptr;           // BodyDefinition::model (null: CKPD)
 
   // Reference data per point, fixed for the run.
   std::vector<Vec3> reference_position;
@@ -112,6 +124,8 @@ struct Body {
   // The lattice stencil shared by all points, or null (general path); the note says why not.
   std::shared_ptr<const LatticeStencil> stencil;
   std::string stencil_note;
+  // Computed once from the reference configuration (make_body).
+  SetScreens screens;
 
   // State.
   std::vector<Vec3> displacement;
@@ -150,5 +164,8 @@ struct StiffnessTerms {
   double bonds = 0, pairs = 0, triples = 0;
 };
 StiffnessTerms stiffness_terms(const Body& body, std::size_t i);
+
+// Sum over points of strain_energy_density * volume (call after an energy evaluation).
+double strain_energy(const Body& body);
 
 }  // namespace ckpd

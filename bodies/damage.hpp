@@ -26,9 +26,10 @@ bool segment_crosses_precrack(const Vec3& a, const Vec3& b, const Precrack& crac
 // body without a critical stretch.
 std::size_t apply_precrack(Body& body, const Precrack& crack);
 
-// Fails, for good, every intact bond whose stretch exceeds the critical stretch, except bonds
-// touching a no-failure point. Both stored directions of a bond compute the identical stretch,
-// so they fail together. Returns the number of bonds (each counted once) that failed now.
+// Fails, for good, every intact bond that the body's model breaks now (CKPD, PMB: its stretch
+// exceeds the critical stretch), except bonds touching a no-failure point. Both stored directions
+// of a bond compute the identical stretch, so they fail together. Returns the number of bonds (each
+// counted once) that failed now.
 std::size_t update_bond_failure(Body& body);
 
 // update_bond_failure with energy bookkeeping: also returns the strain energy the failures

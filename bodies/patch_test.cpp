@@ -6,7 +6,7 @@
 #include <string>
 
 #include "bodies/body.hpp"
-#include "bodies/internal_force.hpp"
+#include "bodies/point_kernel.hpp"
 
 namespace ckpd {
 

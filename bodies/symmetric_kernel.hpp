@@ -1,8 +1,8 @@
 #pragma once
 // CKPD internal force density (MODEL.md section 2) with every interaction evaluated ONCE.
 //
-// The reference kernel (internal_force.hpp) visits each point's family and so computes every
-// bond twice, every triangle three times and every tetrahedron four times. The sums are exact
+// The reference kernel (reference/internal_force.hpp) visits each point's family and so computes
+// every bond twice, every triangle three times and every tetrahedron four times. The sums are exact
 // rewritings of per-set terms (MODEL.md section 2), so here each unordered set is enumerated
 // once, from its smallest-index vertex i, and its geometry gives every vertex c its share:
 //   bond {i,j}:        c1 (1/L - 1/l) dx^ic dV1^c              (if the bond is intact)
@@ -39,7 +39,7 @@ struct SymmetricKernelStats {
   std::uint64_t inverted_tetrahedra = 0;
 };
 
-struct SymmetricKernelThread;  // per-thread scratch, defined in the .cpp
+struct SymmetricKernelThread;  // per-thread scratch, defined in symmetric/context.hpp
 
 // Scratch that survives between calls so that steady-state evaluations allocate nothing. It
 // only grows. One workspace must not be used by two calls at the same time.
@@ -71,6 +71,9 @@ SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_ener
 bool uses_lattice_stencil(const Body& body);
 SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_energy,
                                                       SymmetricKernelWorkspace& workspace);
+
+// The kernel's degeneracy screens for a body (Body::screens; make_body sets them once).
+SetScreens set_screens(const Body& body);
 
 // The ordered, non-degenerate two- and three-neighbour counts per point as this kernel's
 // enumeration and degeneracy decisions see them (all bonds, intact or not). They must equal

@@ -13,7 +13,8 @@ The layers, lowest first (a folder may include its own files and those of any lo
   src/sweep/         sweep files, run keys, the runner
   src/cli/           the `ckpd` subcommands
   src/main.cpp       the program
-Folders below the listed ones (src/geometry/mesh/) belong to their parent's layer.
+Folders below the listed ones (src/geometry/mesh/) belong to their parent's layer. None of them
+may include reference/ (the plain reference kernel that tests and benchmarks check against).
 Usage: scripts/check_layers.py [ROOT]
 """
 import pathlib
@@ -24,6 +25,8 @@ LAYERS = ["bodies", "contact", "src/input", "src/geometry", "src/engine", "src/o
           "src/case", "src/sweep", "src/cli", "src"]
 # Headers a layer may not include even though they lie below it, and why.
 FORBIDDEN = {}
+# Folders no layer may include: (prefix, why).
+OFF_LIMITS = [("reference/", "the reference kernel is for tests and benchmarks only")]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
 
 
@@ -56,6 +59,9 @@ def main() -> int:
                 if not m:
                     continue
                 target = m.group(1)
+                for prefix, why in OFF_LIMITS:
+                    if target.startswith(prefix):
+                        problems.append(f"{rel}:{lineno}: {own}/ includes {target}: {why}")
                 to = layer_of(target)
                 if to is None:
                     continue  # a header outside the layered folders

@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "bodies/body.hpp"
-#include "bodies/internal_force.hpp"
 #include "bodies/material.hpp"
 #include "bodies/symmetric_kernel.hpp"
+#include "reference/internal_force.hpp"
 
 namespace kernel_comparison {
 

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "bodies/damage.hpp"
-#include "bodies/internal_force.hpp"
 #include "bodies/material.hpp"
 #include "body_fixtures.hpp"
+#include "reference/internal_force.hpp"
 #include "reference_kernel.hpp"
 
 namespace {

@@ -17,10 +17,10 @@
 
 #include "bodies/body.hpp"
 #include "bodies/damage.hpp"
-#include "bodies/internal_force.hpp"
 #include "bodies/material.hpp"
 #include "bodies/symmetric_kernel.hpp"
 #include "kernel_comparison.hpp"
+#include "reference/internal_force.hpp"
 #include "run_helpers.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/case/case_loader.hpp"

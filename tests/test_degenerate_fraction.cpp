@@ -8,10 +8,10 @@
 #include <cmath>
 #include <random>
 
-#include "bodies/internal_force.hpp"
 #include "bodies/material.hpp"
 #include "bodies/symmetric_kernel.hpp"
 #include "body_fixtures.hpp"
+#include "reference/internal_force.hpp"
 
 using namespace ckpd;
 using namespace ckpd_test;

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "bodies/internal_force.hpp"
 #include "bodies/material.hpp"
 #include "body_fixtures.hpp"
+#include "reference/internal_force.hpp"
 #include "reference_kernel.hpp"
 
 namespace {

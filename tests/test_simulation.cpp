@@ -7,9 +7,9 @@
 #include <random>
 #include <sstream>
 
-#include "bodies/internal_force.hpp"
 #include "bodies/material.hpp"
 #include "bodies/patch_test.hpp"
+#include "reference/internal_force.hpp"
 #include "run_helpers.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/case/case_loader.hpp"

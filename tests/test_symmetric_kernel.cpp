@@ -14,10 +14,10 @@
 #include <vector>
 
 #include "bodies/body.hpp"
-#include "bodies/internal_force.hpp"
 #include "bodies/material.hpp"
 #include "bodies/symmetric_kernel.hpp"
 #include "kernel_comparison.hpp"
+#include "reference/internal_force.hpp"
 
 using namespace kernel_comparison;
 

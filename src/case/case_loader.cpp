@@ -7,13 +7,13 @@
 #include <sstream>
 
 #include "bodies/material.hpp"
-#include "bodies/patch_test.hpp"
 #include "src/geometry/lattice.hpp"
 #include "src/geometry/mesh/mesh_shape.hpp"
 #include "src/geometry/point_cloud.hpp"
 #include "src/geometry/shape.hpp"
 #include "src/output/field_writer.hpp"
 #include "src/case/contact_loader.hpp"
+#include "src/case/material_model.hpp"
 #include "src/case/rigid_body_loader.hpp"
 
 namespace ckpd {
@@ -23,28 +23,14 @@ namespace {
 constexpr std::size_t kDefaultMaxPoints = 20'000'000;
 
 struct MaterialSpec {
-  double density = 0, youngs_modulus = 0, poisson_ratio = 0;
-  std::optional<double> fracture_energy, critical_stretch;
+  std::shared_ptr<const MaterialModel> model;  // src/case/material_model.hpp
   CaseNode node;
 };
 
 std::map<std::string, MaterialSpec> read_materials(const CaseNode& root) {
   std::map<std::string, MaterialSpec> materials;
-  for (const auto& [name, m] : root.required("materials").entries()) {
-    MaterialSpec spec{0, 0, 0, std::nullopt, std::nullopt, m};
-    spec.density = m.required("density").as_positive();
-    spec.youngs_modulus = m.required("youngs_modulus").as_positive();
-    const CaseNode nu = m.required("poisson_ratio");
-    spec.poisson_ratio = nu.as_double();
-    if (!(spec.poisson_ratio > -1 && spec.poisson_ratio < 0.5))
-      nu.fail("a Poisson's ratio in (-1, 0.5)");
-    if (auto g = m.optional("fracture_energy")) spec.fracture_energy = g->as_positive();
-    if (auto s = m.optional("critical_stretch")) spec.critical_stretch = s->as_positive();
-    if (spec.fracture_energy && spec.critical_stretch)
-      m.fail("either fracture_energy or critical_stretch, not both");
-    m.finish();
-    materials.emplace(name, std::move(spec));
-  }
+  for (const auto& [name, m] : root.required("materials").entries())
+    materials.emplace(name, MaterialSpec{make_material(m), m});
   if (materials.empty()) root.required("materials").fail("at least one material");
   return materials;
 }
@@ -71,7 +57,7 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
     if (auto m = n.optional("material")) {
       const auto it = materials.find(m->as_string());
       if (it == materials.end()) m->fail("the name of a material in `materials`");
-      density = it->second.density;
+      density = it->second.model->density();
     }
     return read_rigid_body(n, density);
   }
@@ -176,21 +162,10 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
   def.reference_position = std::move(sample.position);
   def.volume = std::move(sample.volume);
   def.full_family_volume = sample.full_family_volume;
-  def.density = mat.density;
+  def.density = mat.model->density();
 
   try {
-    def.constants = interaction_constants(def.dimension, mat.youngs_modulus, mat.poisson_ratio,
-                                          plane, def.horizon);
-    if (calibrated)
-      def.constants = calibrated_constants(def.dimension, mat.youngs_modulus, mat.poisson_ratio,
-                                           plane, def.horizon, spacing);
-    if (mat.critical_stretch) {
-      def.critical_stretch = *mat.critical_stretch;
-    } else if (mat.fracture_energy) {
-      def.critical_stretch = critical_stretch_from_fracture_energy(
-          def.dimension, mat.youngs_modulus, mat.poisson_ratio, plane, def.horizon,
-          *mat.fracture_energy);
-    }
+    mat.model->define(def, MaterialTarget{def.dimension, plane, def.horizon, spacing, calibrated});
   } catch (const std::invalid_argument& e) {
     if (calibrated)
       constants_node->fail(std::string("calibrated constants for body '") + def.name + "' (" +

@@ -8,7 +8,6 @@
 #include <sstream>
 
 #include "bodies/damage.hpp"
-#include "bodies/internal_force.hpp"
 #include "bodies/symmetric_kernel.hpp"
 #include "src/engine/contact_coupling.hpp"
 
@@ -225,8 +224,8 @@ void Simulation::evaluate_forces(bool with_energy) {
     // velocity holds the drift velocity of the step (kick-drift-kick): the lost energy is
     // booked at the step's midpoint, where the integrator's force switch effectively happens.
     dissipated[index] = fail_overstretched_bonds(b, 0.5 * step_choice_.dt).dissipated;
-    // Each bond, triangle and tetrahedron once (the per-point kernel in internal_force.hpp is the
-    // reference it is tested against).
+    // Each bond, triangle and tetrahedron once (the per-point reference kernel in reference/ is
+    // what it is tested against).
     const SymmetricKernelStats stats = compute_internal_force_symmetric(b, with_energy);
     if (with_energy) inverted_[index] = stats.inverted_tetrahedra + stats.inverted_triangles;
     const std::size_t n = b.size();

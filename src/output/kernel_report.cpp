@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "bodies/force_model.hpp"
 #include "bodies/lattice_stencil.hpp"
 #include "bodies/symmetric_kernel.hpp"
 
@@ -19,6 +20,7 @@ std::string general_reason(const Body& body) {
 
 std::string kernel_path_note(const Body& body) {
   std::ostringstream os;
+  os << force_model(body).name << " model, ";
   if (uses_lattice_stencil(body)) {
     const LatticeStencil& st = *body.stencil;
     os << "lattice stencil (" << st.slots << " offsets, " << st.pairs << " pairs, " << st.triples
@@ -30,9 +32,10 @@ std::string kernel_path_note(const Body& body) {
 }
 
 nlohmann::ordered_json kernel_path_summary(const Body& body) {
+  const char* model = force_model(body).name;
   if (uses_lattice_stencil(body))
-    return {{"path", "stencil"}, {"stencil_bytes", body.stencil->bytes()}};
-  return {{"path", "general"}, {"note", general_reason(body)}};
+    return {{"model", model}, {"path", "stencil"}, {"stencil_bytes", body.stencil->bytes()}};
+  return {{"model", model}, {"path", "general"}, {"note", general_reason(body)}};
 }
 
 }  // namespace ckpd

@@ -1,0 +1,159 @@
+#pragma once
+// The damage step of a force model (damage.hpp has the contract): which bonds fail now, by the
+// model's rule (Model::bond_fails), and the strain energy their failure takes out of the body.
+#include <algorithm>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "bodies/damage.hpp"
+#include "bodies/point_kernel.hpp"
+
+namespace ckpd {
+
+namespace bond_failure_detail {
+// Whether the intact bond stored at k in point i's row fails now: the model's rule at its
+// stretch, and neither end in a no-failure zone. Both stored directions give the same answer.
+template <class Model>
+bool breaks_now(const Model& model, const Body& body, bool protect, std::size_t i, std::size_t k) {
+  if (!body.bond_intact[k]) return false;
+  const std::uint32_t j = body.family.neighbour[k];
+  if (protect && (body.no_failure[i] || body.no_failure[j])) return false;
+  return model.bond_fails(bond_stretch(body.reference_position[j] - body.reference_position[i],
+                                       body.displacement[j] - body.displacement[i]));
+}
+
+// Bonds only (no two- or three-neighbour sets): a failing bond {i, j} takes exactly its own
+// energy out of the two ends' sums, V^i dV1^i psi1/2 + V^j dV1^j psi1/2 (half of W1's psi1 per
+// stored direction), psi1 at the booking displacement. One pass over the bonds does the test,
+// the failure and the bookkeeping: no per-point re-evaluation.
+template <class Model>
+FailureUpdate fail_bonds_only(const Model& model, Body& body, double half_drift) {
+  const std::size_t n = body.size();
+  const bool protect = !body.no_failure.empty();
+  // Per-point sums, added in point order below: the total does not depend on the thread count.
+  // (Kept between calls by the calling thread; the workers write through this reference.)
+  thread_local std::vector<double> kept;
+  std::vector<double>& lost = kept;
+  lost.assign(n, 0.0);
+  std::size_t failed = 0;
+#pragma omp parallel for schedule(static) reduction(+ : failed)
+  for (std::size_t i = 0; i < n; ++i) {
+    double mine = 0;
+    for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
+      if (!breaks_now(model, body, protect, i, k)) continue;
+      // Each stored direction fails its own flag; the other direction is decided by the same
+      // stretch when its row is visited.
+      body.bond_intact[k] = 0;
+      const std::uint32_t j = body.family.neighbour[k];
+      if (i < j) ++failed;
+      const Vec3 dX = body.reference_position[j] - body.reference_position[i];
+      const Vec3 du = (body.displacement[j] - half_drift * body.velocity[j]) -
+                      (body.displacement[i] - half_drift * body.velocity[i]);
+      mine += 0.5 * model.bond_energy(dX.norm(), bond_stretch(dX, du));
+    }
+    lost[i] = mine * body.dv1[i] * body.volume[i];
+  }
+  FailureUpdate result;
+  result.failed = failed;
+  for (std::size_t i = 0; i < n; ++i) result.dissipated += lost[i];
+  return result;
+}
+}  // namespace bond_failure_detail
+
+template <class Model>
+std::size_t update_bond_failure_of(const Model& model, Body& body) {
+  if (!body.damage_enabled) return 0;
+  const std::size_t n = body.size();
+  const bool protect = !body.no_failure.empty();
+  std::size_t failed = 0;
+#pragma omp parallel for schedule(static) reduction(+ : failed)
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
+      if (bond_failure_detail::breaks_now(model, body, protect, i, k)) {
+        body.bond_intact[k] = 0;
+        if (i < body.family.neighbour[k]) ++failed;
+      }
+    }
+  }
+  return failed;
+}
+
+template <class Model>
+FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double half_drift) {
+  FailureUpdate result;
+  if (!body.damage_enabled) return result;
+  const bool sets = (Model::kTriangles && model.has_triangles()) ||
+                    (Model::kTetrahedra && model.has_tetrahedra());
+  if (!sets) return bond_failure_detail::fail_bonds_only(model, body, half_drift);
+  // Points with a bond about to fail (found with the same test update_bond_failure applies).
+  const std::size_t n = body.size();
+  const bool protect = !body.no_failure.empty();
+  std::vector<std::uint8_t> touched(n, 0);
+  bool any = false;
+#pragma omp parallel for schedule(static) reduction(|| : any)
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
+      if (bond_failure_detail::breaks_now(model, body, protect, i, k)) {
+        touched[i] = 1;
+        any = true;
+        break;
+      }
+    }
+  }
+  if (!any) return result;
+  if (body.damage_rule == DamageRule::all_edges) {
+    // A failing bond j-k also switches off, for every common neighbour i, the sets of i's own
+    // family that hold the edge j-k: their energy leaves i's sum too. Every such i is bonded to
+    // j (the set's edges are bonds), so the ends' neighbours are all the points that change.
+    std::vector<std::uint8_t> ends = touched;
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (ends[i]) continue;
+      for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
+        if (ends[body.family.neighbour[k]]) {
+          touched[i] = 1;
+          break;
+        }
+      }
+    }
+  }
+  std::vector<std::uint32_t> points;
+  for (std::size_t i = 0; i < n; ++i)
+    if (touched[i]) points.push_back(static_cast<std::uint32_t>(i));
+  std::vector<double> before(points.size()), after(points.size());
+  // Book at the step's midpoint (see damage.hpp): the energies are read at u - half_drift v, and
+  // the end-of-step displacement is put back bit for bit afterwards.
+  std::vector<Vec3> end_of_step;
+  if (half_drift != 0) {
+    end_of_step = body.displacement;
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) body.displacement[i] -= half_drift * body.velocity[i];
+  }
+#pragma omp parallel
+  {
+    FamilyScratch scratch;
+#pragma omp for schedule(dynamic, 4)
+    for (std::size_t p = 0; p < points.size(); ++p)
+      before[p] = evaluate_point_of(model, body, points[p], scratch).strain_energy_density();
+#pragma omp single
+    {
+      // Decided at the end-of-step displacement, like update_bond_failure alone.
+      if (half_drift != 0) std::swap(body.displacement, end_of_step);
+      result.failed = update_bond_failure_of(model, body);
+      if (half_drift != 0) std::swap(body.displacement, end_of_step);
+    }
+#pragma omp for schedule(dynamic, 4)
+    for (std::size_t p = 0; p < points.size(); ++p)
+      after[p] = evaluate_point_of(model, body, points[p], scratch).strain_energy_density();
+  }
+  if (half_drift != 0) body.displacement = std::move(end_of_step);
+  // Summed in point order, so the result does not depend on the thread schedule.
+  double dissipated = 0;
+  for (std::size_t p = 0; p < points.size(); ++p)
+    dissipated += body.volume[points[p]] * (before[p] - after[p]);
+  result.dissipated = dissipated;
+  return result;
+}
+
+}  // namespace ckpd

@@ -1,0 +1,12 @@
+// The CKPD model's kernels, instantiated once (ckpd_model.hpp has the law).
+#include "bodies/ckpd_model.hpp"
+
+#include "bodies/force_model_kernels.hpp"
+
+namespace ckpd {
+
+const ForceModelKernels& ckpd_kernels() {
+  return kernels_of<CkpdModel>();
+}
+
+}  // namespace ckpd

@@ -1,0 +1,208 @@
+#pragma once
+// The CKPD force model (MODEL.md sections 2-4): the one place that holds its law, per
+// interaction family. Kernels are plain loops over the sets of a body (CabanaPD style): they
+// take the model as a template parameter and ask it, per set, for the scalar law; the sets'
+// kinematics (the measure and its gradient at each vertex) are the kernels' business.
+//
+// Every family has a measure m with reference value R: the bond length l (L), the triangle area
+// |a| (A), the tetrahedron volume |v| (|V|). The energy of one ORDERED set seen from a vertex is
+//   psi = C/(2R) (m - R)^2 = C R (m/R - 1)^2 / 2
+// (psi1 = C1 L s^2/2, psi2 = C2 A (|a|/A - 1)^2/2, psi3 = C3 |V| (|v|/|V| - 1)^2/2), so
+//   dpsi/dm = C (m/R - 1),   d2psi/dm2 = C/R,   and dpsi/dm = 0 at the reference state.
+// A vertex c of an unordered set gets the force -(orders) dV^c dpsi/dm grad_c m, where the
+// orders (1 per bond end, 2 per triangle, 6 per tetrahedron) are the set's orderings in c's
+// family, and the share (orders) dV^c psi / (n + 1) of its energy density W1/2 + W2/3 + W3/4.
+//
+// The law is written per unit force weight (`*_force_weight`: C and dV and the orders) in the
+// forms the kernels evaluate, so that every kernel path computes it with the same operations:
+//   bond:        c1 (1/L - 1/l), the factor of dx                   (bond_coefficient)
+//   triangle:    1/A - 1/|a|, the factor of a = p x q               (triangle_coefficient)
+//   tetrahedron: v/|V| - sign v, the factor of grad v               (tetrahedron_coefficient)
+// and the energies as R e^2 with e = m/R - 1 (`*_energy_measure`, per unit energy weight).
+// The reference measure comes as a value (general path, reference kernel) or as its inverse (the
+// lattice stencil's tables): see ReferenceMeasure / InverseMeasure.
+//
+// Inversion penalty (BodyDefinition::inversion_penalty, F): an inverted ordered set (signed
+// volume, in 2D signed area, of the opposite sign to its reference) adds 2 F |C| m to psi's
+// R e^2 units, so the coefficient gains pen = 2 F |C| / C times d m/dm-factor (pen / |a| for a
+// triangle, pen sign v for a tetrahedron).
+//
+// Damage: a bond fails for good when its stretch exceeds the critical stretch
+// (bond_fails); which sets a failed bond switches off is the body's DamageRule.
+#include <cmath>
+#include <limits>
+
+#include "bodies/material.hpp"
+#include "bodies/set_law.hpp"
+
+namespace ckpd {
+
+struct CkpdModel {
+  static constexpr const char* kName = "ckpd";
+  // The families this model can have (each is built only when its constant is non-zero).
+  static constexpr bool kTriangles = true, kTetrahedra = true;
+
+  double c1 = 0, c2 = 0, c3 = 0;
+  // Inversion penalty factors in units of C: 2 F |C| / C (0 when off or when C is 0).
+  double pen2 = 0, pen3 = 0;
+  bool planar = false;  // 2D body: a triangle's orientation is the sign of its area's z
+  double critical_stretch = std::numeric_limits<double>::infinity();
+
+  CkpdModel() = default;
+  CkpdModel(const InteractionConstants& c, double inversion_penalty, bool planar_body,
+            double critical)
+      : c1(c.c1), c2(c.c2), c3(c.c3), planar(planar_body), critical_stretch(critical) {
+    pen2 = c2 != 0 ? 2 * inversion_penalty * (c2 > 0 ? 1.0 : -1.0) : 0.0;
+    pen3 = c3 != 0 ? 2 * inversion_penalty * (c3 > 0 ? 1.0 : -1.0) : 0.0;
+  }
+  // The model of a body (its constants, penalty, dimension and critical stretch).
+  template <class BodyT>
+  static CkpdModel of(const BodyT& body) {
+    return CkpdModel(body.constants, body.inversion_penalty, body.dimension == 2,
+                     body.critical_stretch);
+  }
+  bool has_triangles() const { return c2 != 0; }
+  bool has_tetrahedra() const { return c3 != 0; }
+  bool has_penalty() const { return pen2 != 0 || pen3 != 0; }
+
+  // ---- Bonds ----------------------------------------------------------------------------
+  // Force on the centre i of bond {i, j}: bond_coefficient * dV1^i * dx^ij (j gets minus it
+  // with its own dV1^j).
+  template <class Measure>
+  double bond_coefficient(const Measure& L, double l) const {
+    return c1 * (L.inverse() - 1 / l);
+  }
+  // psi1 = C1 L s^2 / 2 of one ordered bond (s its stretch); W1 sums psi1 dV1.
+  double bond_energy(double L, double stretch) const { return 0.5 * c1 * L * stretch * stretch; }
+  double bond_stretch(double L, double l) const { return l / L - 1; }
+  // The damage rule: a bond fails for good once its stretch exceeds the critical stretch.
+  bool bond_fails(double stretch) const { return stretch > critical_stretch; }
+  // Forces on i (vertex 0) and j of bond {i, j} per unit dV1, energy psi1 per unit dV1.
+  SetTerm<2> bond_term(const Vec3& P, const Vec3& p) const {
+    SetTerm<2> t;
+    const double L = P.norm(), l = p.norm();
+    const double k = bond_coefficient(ReferenceMeasure{L}, l);
+    t.force[0] = k * p;
+    t.force[1] = -t.force[0];
+    t.energy = bond_energy(L, bond_stretch(L, l));
+    return t;
+  }
+  SetLinearisation<2> bond_linearisation(const Vec3& P) const {
+    const double L = P.norm();
+    const Vec3 n = P / L;
+    return {c1, L, {-n, n}};
+  }
+
+  // ---- Triangles (two-neighbour sets) ---------------------------------------------------
+  double triangle_force_weight(double dv2) const { return 2 * c2 * dv2; }   // 2 orders
+  double triangle_energy_weight(double dv2) const { return c2 * dv2 / 3; }  // share of W2/3
+  // (1/A - 1/|a|): the force on the vertex with gradient G_c x a/|a| of |a| is
+  // -weight (|a|/A - 1) G_c x a/|a| = -weight G_c x (coefficient a). Finite for a collapsed
+  // triangle (|a| = 0). Inverted (kPenalty): + pen2 / |a|.
+  template <bool kPenalty, class Measure>
+  double triangle_coefficient(const Measure& A, double an, bool inverted) const {
+    double f = A.inverse() - (an > 0 ? 1 / an : 0.0);
+    if constexpr (kPenalty) {
+      if (inverted) f += pen2 / an;
+    }
+    return f;
+  }
+  // A (|a|/A - 1)^2 (+ 2 pen2 |a| when inverted): psi2 per unit C2 / 2.
+  template <bool kPenalty, class Measure>
+  double triangle_energy_measure(const Measure& A, double an, bool inverted) const {
+    const double e = A.over(an) - 1;
+    double en = A.times_square(e);
+    if constexpr (kPenalty) {
+      if (inverted) en += 2 * pen2 * an;
+    }
+    return en;
+  }
+  // In a plane the sign of the z component is the orientation (rotation-invariant there).
+  bool triangle_inverted(double area_z, double ref_area_z) const {
+    return planar && area_z * ref_area_z < 0;
+  }
+  // Triangle {0, 1, 2} with offsets P, Q (reference) and p, q (current) from vertex 0, per unit
+  // force weight; `degenerate_fraction` as in MODEL.md section 1, from vertex 0's perspective.
+  SetTerm<3> triangle_term(const Vec3& P, const Vec3& Q, const Vec3& p, const Vec3& q,
+                           double degenerate_fraction) const {
+    SetTerm<3> t;
+    const Vec3 ref_area = P.cross(Q);
+    const double A = ref_area.norm();
+    if (A <= degenerate_fraction * P.norm() * Q.norm()) {
+      t.degenerate = true;
+      return t;
+    }
+    const Vec3 area = p.cross(q);
+    const double an = area.norm();
+    t.inverted = triangle_inverted(area.z(), ref_area.z());
+    const ReferenceMeasure R{A};
+    const Vec3 g = triangle_coefficient<true>(R, an, t.inverted) * area;
+    t.force[0] = (q - p).cross(g);
+    t.force[1] = -q.cross(g);
+    t.force[2] = p.cross(g);
+    t.energy = triangle_energy_measure<true>(R, an, t.inverted) / 2;
+    return t;
+  }
+  // Gradients of |a| at the reference state: G_c x n with G_0 = P - Q... (n = a/A).
+  SetLinearisation<3> triangle_linearisation(const Vec3& P, const Vec3& Q) const {
+    const Vec3 area = P.cross(Q);
+    const double A = area.norm();
+    const Vec3 unit = area / A;
+    return {1, A, {(P - Q).cross(unit), Q.cross(unit), unit.cross(P)}};
+  }
+
+  // ---- Tetrahedra (three-neighbour sets) ------------------------------------------------
+  double tetrahedron_force_weight(double dv3) const { return 6 * c3 * dv3; }      // 6 orders
+  double tetrahedron_energy_weight(double dv3) const { return 0.75 * c3 * dv3; }  // 6/4 psi
+  // v/|V| - sign v (= (|v|/|V| - 1) sign v): vertex c gets -weight coefficient grad_c v.
+  // Inverted (kPenalty): + pen3 sign v.
+  template <bool kPenalty, class Measure>
+  double tetrahedron_coefficient(const Measure& V, double v, bool inverted) const {
+    double f = V.over(v) - sign_of(v);
+    if constexpr (kPenalty) {
+      if (inverted) f += pen3 * sign_of(v);
+    }
+    return f;
+  }
+  // |V| (|v|/|V| - 1)^2 (without the penalty: tetrahedron_penalty_measure).
+  template <class Measure>
+  double tetrahedron_energy_measure(const Measure& V, double v) const {
+    const double e = V.over(std::abs(v)) - 1;
+    return V.times_square(e);
+  }
+  double tetrahedron_penalty_measure(double v) const { return 2 * pen3 * std::abs(v); }
+  static bool tetrahedron_inverted(double v, double signed_V) { return v * signed_V < 0; }
+  // Tetrahedron {0, 1, 2, 3} with offsets P, Q, R (reference) and p, q, r (current) from
+  // vertex 0, per unit force weight.
+  SetTerm<4> tetrahedron_term(const Vec3& P, const Vec3& Q, const Vec3& R, const Vec3& p,
+                              const Vec3& q, const Vec3& r, double degenerate_fraction) const {
+    SetTerm<4> t;
+    const double signed_V = P.dot(Q.cross(R)), V = std::abs(signed_V);
+    if (V <= degenerate_fraction * P.norm() * Q.norm() * R.norm()) {
+      t.degenerate = true;
+      return t;
+    }
+    const Vec3 qr = q.cross(r), rp = r.cross(p), pq = p.cross(q);
+    const double v = p.dot(qr);
+    t.inverted = tetrahedron_inverted(v, signed_V);
+    const ReferenceMeasure M{V};
+    const double f = tetrahedron_coefficient<true>(M, v, t.inverted);
+    t.force[0] = f * (qr + rp + pq);
+    t.force[1] = -f * qr;
+    t.force[2] = -f * rp;
+    t.force[3] = -f * pq;
+    double en = tetrahedron_energy_measure(M, v);
+    if (t.inverted) en += tetrahedron_penalty_measure(v);
+    t.energy = en / 2;
+    return t;
+  }
+  // Gradients of |v| at the reference state: sign(V) (q x r, r x p, p x q) and minus their sum.
+  SetLinearisation<4> tetrahedron_linearisation(const Vec3& P, const Vec3& Q, const Vec3& R) const {
+    const Vec3 hj = Q.cross(R), hk = R.cross(P), hl = P.cross(Q);
+    const double signed_V = P.dot(hj);
+    const double s = sign_of(signed_V);
+    return {1, std::abs(signed_V), {-s * (hj + hk + hl), s * hj, s * hk, s * hl}};
+  }
+};
+
+}  // namespace ckpd

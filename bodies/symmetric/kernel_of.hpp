@@ -1,0 +1,97 @@
+#pragma once
+// compute_internal_force_symmetric for one force model (instantiated in the model's table,
+// force_model_kernels.hpp).
+#include <omp.h>
+
+#include "bodies/symmetric/process_point.hpp"
+
+namespace ckpd::symmetric {
+
+template <class Model>
+SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWorkspace& workspace) {
+  const std::size_t n = body.size();
+  Context<Model> ctx;
+  static_cast<ContextBase&>(ctx) = make_context_base(body);
+  ctx.model = Model::of(body);
+  workspace.ensure_threads(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
+  if (uses_lattice_stencil(body)) {
+    ctx.stencil = body.stencil.get();
+    if (ctx.intact != nullptr) {
+      if (workspace.row_failed.size() < n) workspace.row_failed.resize(n);
+      ctx.row_failed = workspace.row_failed.data();
+    }
+  }
+  int team = 1;
+  // Static schedule: which thread handles which point is a function of the thread count only,
+  // so each thread's partial sums, and their sum in thread order, are reproducible. Chunks of 64
+  // interleave the threads finely enough to spread the cheap points (few upper neighbours: the
+  // high-index surface); measured on a 20^3 block with 2 threads: chunks of 16 scaled 1.85x,
+  // 64 to 256 1.95x (consecutive points write to overlapping neighbours: better locality).
+  constexpr int kChunk = 64;
+#pragma omp parallel
+  {
+    const std::size_t t = static_cast<std::size_t>(omp_get_thread_num());
+#pragma omp single
+    team = omp_get_num_threads();
+    SymmetricKernelThread& th = workspace.thread(t);
+    th.stats = {};
+    th.force.assign(n, Vec3::Zero());  // keeps its capacity: no allocation after the first call
+    if (with_energy) th.energy.assign(n, 0.0);
+    if (ctx.stencil != nullptr && ctx.intact != nullptr) {
+#pragma omp for schedule(static)
+      for (std::size_t i = 0; i < n; ++i) {
+        std::uint8_t failed = 0;
+        for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k)
+          failed |= static_cast<std::uint8_t>(ctx.intact[k] == 0);
+        workspace.row_failed[i] = failed;
+      }
+    }
+    const bool penalty = ctx.model.has_penalty();
+    auto all_points = [&]<bool kEnergy, bool kPenalty>() {
+      if (ctx.stencil != nullptr) {
+#pragma omp for schedule(static, kChunk)
+        for (std::size_t i = 0; i < n; ++i)
+          process_point<Model, kEnergy, kPenalty, true>(ctx, i, th);
+      } else {
+#pragma omp for schedule(static, kChunk)
+        for (std::size_t i = 0; i < n; ++i)
+          process_point<Model, kEnergy, kPenalty, false>(ctx, i, th);
+      }
+    };
+    if (with_energy && penalty) {
+      all_points.template operator()<true, true>();
+    } else if (with_energy) {
+      all_points.template operator()<true, false>();
+    } else if (penalty) {
+      all_points.template operator()<false, true>();
+    } else {
+      all_points.template operator()<false, false>();
+    }
+    // Fixed-order reduction: thread 0, 1, ... for every point.
+#pragma omp for schedule(static)
+    for (std::size_t p = 0; p < n; ++p) {
+      Vec3 f = workspace.thread(0).force[p];
+      for (int s = 1; s < team; ++s) f += workspace.thread(static_cast<std::size_t>(s)).force[p];
+      body.force_density[p] = f;
+      if (with_energy) {
+        double e = workspace.thread(0).energy[p];
+        for (int s = 1; s < team; ++s) e += workspace.thread(static_cast<std::size_t>(s)).energy[p];
+        body.strain_energy_density[p] = e;
+      }
+    }
+  }
+  SymmetricKernelStats stats;
+  for (int s = 0; s < team; ++s) {
+    const SymmetricKernelStats& x = workspace.thread(static_cast<std::size_t>(s)).stats;
+    stats.bonds += x.bonds;
+    stats.triangles += x.triangles;
+    stats.tetrahedra += x.tetrahedra;
+    stats.triangles_per_vertex += x.triangles_per_vertex;
+    stats.tetrahedra_per_vertex += x.tetrahedra_per_vertex;
+    stats.inverted_triangles += x.inverted_triangles;
+    stats.inverted_tetrahedra += x.inverted_tetrahedra;
+  }
+  return stats;
+}
+
+}  // namespace ckpd::symmetric

@@ -1,0 +1,55 @@
+#pragma once
+// The lattice stencil path's load of point i's upper family (lattice_stencil.hpp).
+#include "bodies/symmetric/context.hpp"
+
+namespace ckpd::symmetric {
+
+// The stencil path's load: slots are the stencil's upper offsets; each neighbour j > i of i
+// goes to the slot of its lattice offset, with the same offsets, flags and weights as
+// load_upper_family. Adjacency rows are the stencil's rows restricted to the present slots;
+// intact rows are merged from the CSR rows (as load_upper_family does) only when a bond near i
+// has failed. Returns the number of present slots (0: nothing to do).
+template <class Model>
+inline std::size_t load_upper_family_stencil(const Context<Model>& ctx, std::size_t i,
+                                             SymmetricKernelThread& t, bool rows) {
+  const LatticeStencil& st = *ctx.stencil;
+  const std::uint32_t* nb = ctx.neighbour;
+  const std::size_t begin = ctx.offset[i], end = ctx.offset[i + 1];
+  const std::size_t first = static_cast<std::size_t>(
+      std::upper_bound(nb + begin, nb + end, static_cast<std::uint32_t>(i)) - nb);
+  const std::size_t count = end - first;
+  t.count = count;
+  if (count == 0) return 0;
+  const std::size_t M = st.slots, W = st.words;
+  t.m = M;
+  t.words = W;
+  t.reserve(M, W);
+  const Vec3 Xi = ctx.X[i];
+  const Vec3 ui = ctx.u ? ctx.u[i] : Vec3::Zero();
+  std::fill_n(t.own.begin(), W, 0);
+  std::fill_n(t.present.begin(), W, 0);
+  bool failed_near = ctx.row_failed != nullptr && ctx.row_failed[i] != 0;
+  for (std::size_t n = 0; n < count; ++n) {
+    const std::uint32_t j = nb[first + n];
+    const auto a = static_cast<std::size_t>(st.slot(i, j));
+    t.up[a] = j;
+    t.list[n] = static_cast<std::uint32_t>(a);
+    set_bit(t.present.data(), a);
+    fill_slot(ctx, t, a, j, Xi, ui);
+    if (ctx.bond_intact(first + n)) set_bit(t.own.data(), a);
+    if (ctx.row_failed != nullptr) failed_near = failed_near || ctx.row_failed[j] != 0;
+  }
+  if (!rows) return count;
+  const std::uint64_t* present = t.present.data();
+  for (std::size_t n = 0; n < count; ++n) {
+    const std::size_t a = t.list[n];
+    const std::uint64_t* srow = &st.adjacency[a * W];
+    std::uint64_t* row = &t.adj[a * W];
+    for (std::size_t w = 0; w < W; ++w) row[w] = srow[w] & present[w];
+  }
+  t.intact_is_adjacency = !failed_near;
+  if (failed_near) merge_csr_rows(ctx, t, nullptr);
+  return count;
+}
+
+}  // namespace ckpd::symmetric

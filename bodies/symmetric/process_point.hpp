@@ -1,0 +1,107 @@
+#pragma once
+// Point i of the symmetric kernel: load its upper family (general or stencil path), then its
+// bonds, and for each bonded pair (a, b) of its upper family the triangle {i, a, b} and the
+// tetrahedra on it; flush i's and every slot's share into the thread's whole-body arrays.
+// With kEnergy the inverted sets are counted; with kPenalty they get the inversion penalty.
+// With kStencil, point i's slots and reference geometry come from the body's lattice stencil.
+#include "bodies/symmetric/bond_loop.hpp"
+#include "bodies/symmetric/load_general.hpp"
+#include "bodies/symmetric/load_stencil.hpp"
+#include "bodies/symmetric/tetrahedron_loop.hpp"
+#include "bodies/symmetric/triangle_term.hpp"
+
+namespace ckpd::symmetric {
+
+template <class Model, bool kEnergy, bool kPenalty, bool kStencil>
+void process_point(const Context<Model>& ctx, std::size_t i, SymmetricKernelThread& t) {
+  constexpr bool kSets = Model::kTriangles || Model::kTetrahedra;
+  const bool rows = kSets && (ctx.pairs || ctx.triples);
+  const std::size_t count =
+      kStencil ? load_upper_family_stencil(ctx, i, t, rows) : load_upper_family(ctx, i, t, rows);
+  if (count == 0) return;
+  Centre centre;
+  centre.index = static_cast<std::uint32_t>(i);
+  bond_loop<Model, kEnergy, kStencil>(ctx, t, centre);
+
+  if constexpr (kSets) {
+    const LatticeStencil* st = ctx.stencil;
+    const std::uint32_t* list = t.list.data();
+    const std::size_t W = t.words;
+    const std::uint64_t* own = t.own.data();
+    for (std::size_t n = 0; n < count && rows; ++n) {
+      Pair pr;
+      const std::size_t a = list[n];
+      pr.a = a;
+      pr.ra = &t.adj[a * W];
+      pr.ia = t.intact_is_adjacency ? pr.ra : &t.adj_intact[a * W];
+      // Stencil path: pair (a, b) is number pair_base[a] + the rank of b in a's stencil row.
+      std::size_t pair_rank = kStencil ? st->pair_base[a] : 0;
+      const bool own_a = bit(own, a);
+      const double Pa[3] = {t.Rx[a], t.Ry[a], t.Rz[a]};
+      pr.pa[0] = t.rx[a];
+      pr.pa[1] = t.ry[a];
+      pr.pa[2] = t.rz[a];
+      for (std::size_t wb = a >> 6; wb < W; ++wb) {
+        std::uint64_t stencil_row = 0;
+        std::size_t word_rank = 0;
+        if constexpr (kStencil) {
+          stencil_row = st->adjacency[a * W + wb];
+          word_rank = pair_rank;
+          pair_rank += static_cast<std::size_t>(std::popcount(stencil_row));
+        }
+        for (std::uint64_t bbits = pr.ra[wb]; bbits; bbits &= bbits - 1) {
+          const std::size_t b = wb * 64 + static_cast<std::size_t>(std::countr_zero(bbits));
+          pr.b = b;
+          pr.number = kStencil
+                          ? word_rank + static_cast<std::size_t>(std::popcount(
+                                            stencil_row & ((std::uint64_t{1} << (b & 63)) - 1)))
+                          : 0;
+          const bool own_b = bit(own, b), bond_ab = bit(pr.ia, b);
+          pr.edges_ab = own_a && own_b && bond_ab;
+          pr.act_i = ctx.all_edges ? pr.edges_ab : own_a && own_b;
+          pr.act_j = ctx.all_edges ? pr.edges_ab : own_a && bond_ab;
+          pr.act_k = ctx.all_edges ? pr.edges_ab : own_b && bond_ab;
+          const double Pb[3] = {t.Rx[b], t.Ry[b], t.Rz[b]};
+          pr.pb[0] = t.rx[b];
+          pr.pb[1] = t.ry[b];
+          pr.pb[2] = t.rz[b];
+          const double* pa = pr.pa;
+          const double* pb = pr.pb;
+          pr.RPQ[0] = Pa[1] * Pb[2] - Pa[2] * Pb[1];
+          pr.RPQ[1] = Pa[2] * Pb[0] - Pa[0] * Pb[2];
+          pr.RPQ[2] = Pa[0] * Pb[1] - Pa[1] * Pb[0];
+          pr.pq[0] = pa[1] * pb[2] - pa[2] * pb[1];
+          pr.pq[1] = pa[2] * pb[0] - pa[0] * pb[2];
+          pr.pq[2] = pa[0] * pb[1] - pa[1] * pb[0];
+          if constexpr (Model::kTriangles) {
+            if (ctx.pairs) triangle_term<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
+          }
+          if constexpr (Model::kTetrahedra) {
+            if (ctx.triples)
+              tetrahedron_loop<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
+          }
+        }
+      }
+    }
+  }
+
+  SymmetricKernelStats& s = t.stats;
+  s.bonds += centre.count.bonds;
+  s.triangles += centre.count.triangles;
+  s.tetrahedra += centre.count.tetrahedra;
+  s.triangles_per_vertex += centre.count.triangles_per_vertex;
+  s.tetrahedra_per_vertex += centre.count.tetrahedra_per_vertex;
+  s.inverted_triangles += centre.count.inverted_triangles;
+  s.inverted_tetrahedra += centre.count.inverted_tetrahedra;
+  // Flush: i's own sum and every slot's share into this thread's whole-body arrays.
+  t.force[i] += Vec3(centre.fx, centre.fy, centre.fz);
+  if constexpr (kEnergy) t.energy[i] += centre.w;
+  const std::uint32_t* list = t.list.data();
+  for (std::size_t n = 0; n < count; ++n) {
+    const std::size_t a = list[n];
+    t.force[t.up[a]] += Vec3(t.fx[a], t.fy[a], t.fz[a]);
+    if constexpr (kEnergy) t.energy[t.up[a]] += t.w[a];
+  }
+}
+
+}  // namespace ckpd::symmetric

@@ -1,0 +1,46 @@
+#pragma once
+// Materials of deformable bodies, by force model (`model: ckpd | pmb` on a material, default
+// ckpd). Each model's material is one small class in src/case/materials/, registered by name
+// from its own file (like a condition type or a LAMMPS pair style): it reads its own keys and
+// gives a body its force model (bodies/force_model.hpp), constants and critical stretch.
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "bodies/body.hpp"
+#include "src/input/case_node.hpp"
+
+namespace ckpd {
+
+// What a material needs to know about the body it is given to.
+struct MaterialTarget {
+  int dimension = 3;
+  PlaneMode plane = PlaneMode::none;
+  double horizon = 0;
+  double spacing = 0;
+  bool calibrated = false;  // the body asks for `constants: calibrated`
+};
+
+class MaterialModel {
+ public:
+  virtual ~MaterialModel() = default;
+  double density() const { return density_; }
+  // Sets def.model, def.constants and def.critical_stretch for a body. Throws
+  // std::invalid_argument (with the reason) when the material cannot serve that body.
+  virtual void define(BodyDefinition& def, const MaterialTarget& target) const = 0;
+
+ protected:
+  double density_ = 0;
+};
+
+// Reads a material's own keys (not `model`); the caller rejects any key left unread.
+using MaterialFactory = std::function<std::unique_ptr<MaterialModel>(const CaseNode&)>;
+std::map<std::string, MaterialFactory>& material_registry();
+bool register_material_model(const std::string& model, MaterialFactory factory);
+
+// The material described by `node` (its `model`, default ckpd, and that model's keys). Unknown
+// models (the known ones are listed) and unknown keys are errors naming file, line and key.
+std::unique_ptr<MaterialModel> make_material(const CaseNode& node);
+
+}  // namespace ckpd

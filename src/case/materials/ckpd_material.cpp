@@ -1,0 +1,53 @@
+// `model: ckpd` (the default): E and nu give C1, C2, C3 (MODEL.md section 3) or, with
+// `constants: calibrated` on the body, the lattice's calibrated constants (bodies/patch_test.hpp);
+// the critical stretch is given or follows from the fracture energy (MODEL.md section 4).
+#include <optional>
+
+#include "bodies/material.hpp"
+#include "bodies/patch_test.hpp"
+#include "src/case/material_model.hpp"
+
+namespace ckpd {
+
+namespace {
+
+class CkpdMaterial : public MaterialModel {
+ public:
+  explicit CkpdMaterial(const CaseNode& m) {
+    density_ = m.required("density").as_positive();
+    youngs_modulus_ = m.required("youngs_modulus").as_positive();
+    const CaseNode nu = m.required("poisson_ratio");
+    poisson_ratio_ = nu.as_double();
+    if (!(poisson_ratio_ > -1 && poisson_ratio_ < 0.5)) nu.fail("a Poisson's ratio in (-1, 0.5)");
+    if (auto g = m.optional("fracture_energy")) fracture_energy_ = g->as_positive();
+    if (auto s = m.optional("critical_stretch")) critical_stretch_ = s->as_positive();
+    if (fracture_energy_ && critical_stretch_)
+      m.fail("either fracture_energy or critical_stretch, not both");
+  }
+
+  void define(BodyDefinition& def, const MaterialTarget& t) const override {
+    def.model = nullptr;  // CKPD
+    def.constants =
+        interaction_constants(t.dimension, youngs_modulus_, poisson_ratio_, t.plane, t.horizon);
+    if (t.calibrated)
+      def.constants = calibrated_constants(t.dimension, youngs_modulus_, poisson_ratio_, t.plane,
+                                           t.horizon, t.spacing);
+    if (critical_stretch_) {
+      def.critical_stretch = *critical_stretch_;
+    } else if (fracture_energy_) {
+      def.critical_stretch = critical_stretch_from_fracture_energy(
+          t.dimension, youngs_modulus_, poisson_ratio_, t.plane, t.horizon, *fracture_energy_);
+    }
+  }
+
+ private:
+  double youngs_modulus_ = 0, poisson_ratio_ = 0;
+  std::optional<double> fracture_energy_, critical_stretch_;
+};
+
+const bool registered = register_material_model(
+    "ckpd", [](const CaseNode& m) { return std::make_unique<CkpdMaterial>(m); });
+
+}  // namespace
+
+}  // namespace ckpd
