@@ -7,6 +7,7 @@ tolerance (default 1e-12). Usage:
 
   scripts/compare_summaries.py --base /path/to/old/ckpd --new build/src/ckpd --out /tmp/cmp
   scripts/compare_summaries.py --base A --new B --out DIR --case cases/x.yaml time.end=1e-5
+  scripts/compare_summaries.py --base A --new B --out DIR --base-rev ee5181a  # converted cases
 
 Runs are on one thread (results are deterministic per build and thread count). Exit status 1
 when any figure differs by more than the tolerance.
@@ -14,6 +15,7 @@ when any figure differs by more than the tolerance.
 import argparse
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -40,6 +42,21 @@ def run(binary, case, overrides, out):
         return json.load(f)
 
 
+def case_at_revision(rev, case, out):
+    """The case file as it was at `rev`, written under `out`, its `file:` paths made absolute."""
+    text = subprocess.run(["git", "show", f"{rev}:{os.path.relpath(case)}"], check=True,
+                          capture_output=True, text=True).stdout
+    folder = os.path.dirname(os.path.abspath(case))
+    text = re.sub(r"(\bfile:\s*)([^\s,}]+)",
+                  lambda m: m.group(1) + (m.group(2) if os.path.isabs(m.group(2))
+                                          else os.path.join(folder, m.group(2))), text)
+    os.makedirs(out, exist_ok=True)
+    path = os.path.join(out, os.path.basename(case) + f".{rev}.yaml")
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
 def figures(summary):
     fig = {"energy." + k: summary["energy"][k] for k in ENERGY_KEYS}
     fig["broken_bonds"] = summary["broken_bonds"]
@@ -63,6 +80,10 @@ def main():
                    help="a case and its overrides (repeatable); default: the seed cases")
     p.add_argument("--new-case", action="append", default=[], metavar="OLD=NEW",
                    help="run NEW with the new binary where the base runs OLD (a converted case)")
+    p.add_argument("--base-rev", default=None,
+                   help="give the base binary each case file as it was at this git revision "
+                        "(for case files converted since; relative `file:` paths are kept "
+                        "pointing at the case's folder)")
     args = p.parse_args()
     cases = [(c[0], c[1:]) for c in args.case] if args.case else DEFAULT_CASES
     renamed = dict(x.split("=", 1) for x in args.new_case)
@@ -71,7 +92,11 @@ def main():
     print("|---|---|---|---|---|")
     for case, overrides in cases:
         name = os.path.splitext(os.path.basename(case))[0]
-        base = figures(run(args.base, case, overrides, os.path.join(args.out, name + ".base")))
+        base_case = case
+        if args.base_rev:
+            base_case = case_at_revision(args.base_rev, case, args.out)
+        base = figures(run(args.base, base_case, overrides,
+                           os.path.join(args.out, name + ".base")))
         new = figures(run(args.new, renamed.get(case, case), overrides,
                           os.path.join(args.out, name + ".new")))
         for key in base:

@@ -1,0 +1,42 @@
+// `model: pmb`: the PMB bond model (bodies/pmb_model.hpp). Keys: density, micromodulus (c, N/m^6
+// in 3D, N/m^5 in 2D) and, for failure, critical_stretch (s0). The model's kernels are
+// instantiated here, once.
+#include <optional>
+
+#include "bodies/force_model_kernels.hpp"
+#include "bodies/pmb_model.hpp"
+#include "src/case/material_model.hpp"
+
+namespace ckpd {
+
+namespace {
+
+class PmbMaterial : public MaterialModel {
+ public:
+  explicit PmbMaterial(const CaseNode& m) {
+    density_ = m.required("density").as_positive();
+    micromodulus_ = m.required("micromodulus").as_positive();
+    if (auto s = m.optional("critical_stretch")) critical_stretch_ = s->as_positive();
+  }
+
+  void define(BodyDefinition& def, const MaterialTarget& t) const override {
+    if (t.calibrated)
+      throw std::invalid_argument(
+          "calibrated constants are a CKPD option; a pmb material has "
+          "its micromodulus");
+    def.model = &kernels_of<PmbModel>();
+    def.constants = InteractionConstants{micromodulus_, 0, 0};
+    if (critical_stretch_) def.critical_stretch = *critical_stretch_;
+  }
+
+ private:
+  double micromodulus_ = 0;
+  std::optional<double> critical_stretch_;
+};
+
+const bool registered = register_material_model(
+    "pmb", [](const CaseNode& m) { return std::make_unique<PmbMaterial>(m); });
+
+}  // namespace
+
+}  // namespace ckpd
