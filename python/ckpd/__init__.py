@@ -5,7 +5,13 @@
     sim.run(callback=lambda s: print(s.time, s.energies["kinetic"]), every=100)
     run = ckpd.open_run("runs/m1")
 """
-from ._ckpd import (
+import os as _os
+
+# As the ckpd program does (src/main.cpp): idle OpenMP threads sleep unless the user chose a
+# policy. OpenMP reads it when it loads, with the compiled module just below.
+_os.environ.setdefault("OMP_WAIT_POLICY", "passive")
+
+from ._ckpd import (  # noqa: E402
     Body,
     CaseError,
     CheckpointError,
@@ -16,14 +22,14 @@ from ._ckpd import (
     TunnellingError,
     check_case,
 )
-from .results import Run, open_run
+from .results import Run, open_run  # noqa: E402
 
 # Named as users import them (ckpd.CaseError, not ckpd._ckpd.CaseError) in reprs and tracebacks.
 for _type in (Body, CaseError, CheckpointError, Condition, InstabilityError, Simulation,
               SweepError, TunnellingError):
     _type.__module__ = "ckpd"
 del _type
-from .sweep import SweepTable, run_cases, run_sweep
+from .sweep import SweepTable, run_cases, run_sweep  # noqa: E402
 
 __all__ = [
     "Body",

@@ -139,9 +139,14 @@ void PySimulation::book_velocity_writes() {
   kinetic_after_step_ = kinetic;
 }
 
+// OpenMP's own default (OMP_NUM_THREADS or all cores), read when the module is loaded, before
+// any simulation has set a count.
+const int default_threads = omp_get_max_threads();
+
 void PySimulation::apply_threads() const {
-  // OpenMP's thread count is per calling thread: set it on the one that computes.
-  if (threads_ > 0) omp_set_num_threads(threads_);
+  // OpenMP's thread count is per calling thread and outlives the call: set it on the thread
+  // that computes, every time (threads=0 after a threads=1 simulation means the default again).
+  omp_set_num_threads(threads_ > 0 ? threads_ : default_threads);
 }
 
 Condition& PySimulation::condition(std::size_t i) {
