@@ -147,7 +147,9 @@ FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double
     for (std::size_t p = 0; p < points.size(); ++p)
       after[p] = evaluate_point_of(model, body, points[p], scratch).strain_energy_density();
   }
-  if (half_drift != 0) body.displacement = std::move(end_of_step);
+  // Copied back, not moved: the displacement keeps its buffer (the Python module's numpy views
+  // of it must stay valid across steps).
+  if (half_drift != 0) std::copy(end_of_step.begin(), end_of_step.end(), body.displacement.begin());
   // Summed in point order, so the result does not depend on the thread schedule.
   double dissipated = 0;
   for (std::size_t p = 0; p < points.size(); ++p)

@@ -13,6 +13,7 @@ The layers, lowest first (a folder may include its own files and those of any lo
   src/sweep/         sweep files, run keys, the runner
   src/cli/           the `ckpd` subcommands
   src/main.cpp       the program
+  python/            the Python module (on top of everything)
 Folders below the listed ones (src/geometry/mesh/) belong to their parent's layer. None of them
 may include reference/ (the plain reference kernel that tests and benchmarks check against).
 Usage: scripts/check_layers.py [ROOT]
@@ -22,7 +23,7 @@ import re
 import sys
 
 LAYERS = ["bodies", "contact", "src/input", "src/geometry", "src/engine", "src/output",
-          "src/case", "src/sweep", "src/cli", "src"]
+          "src/case", "src/sweep", "src/cli", "src", "python"]
 # Headers a layer may not include even though they lie below it, and why.
 FORBIDDEN = {}
 # Folders no layer may include: (prefix, why).
@@ -48,7 +49,7 @@ def main() -> int:
     rank = {layer: i for i, layer in enumerate(LAYERS)}
     problems = []
     checked = 0
-    for folder in ("bodies", "contact", "src"):
+    for folder in ("bodies", "contact", "src", "python"):
         for f in sorted((root / folder).rglob("*")):
             if f.suffix not in (".cpp", ".hpp", ".h"):
                 continue

@@ -284,7 +284,12 @@ std::string physics_fingerprint(const YAML::Node& root) {
 }  // namespace
 
 Scene load_scene(const std::string& case_file, const std::vector<std::string>& overrides) {
-  const YAML::Node resolved = load_case_yaml(case_file, overrides);
+  return load_scene(load_case_yaml(case_file, overrides), case_file);
+}
+
+Scene load_scene(const YAML::Node& resolved, const std::string& case_file) {
+  if (!resolved.IsMap())
+    throw CaseError(case_file + ": a case is a map of sections (materials, bodies, ...)");
   const CaseNode root(resolved, case_file);
   Scene scene;
   scene.case_file = case_file;

@@ -11,5 +11,9 @@ namespace ckpd {
 
 // `overrides` are `key.path=value` strings (the command line's --set).
 Scene load_scene(const std::string& case_file, const std::vector<std::string>& overrides = {});
+// A case already in memory (overrides applied), e.g. built from a Python dict: `case_file` names
+// it in the errors and the summary; relative mesh paths are resolved against its directory
+// (the working directory for a name without one, such as "case dict").
+Scene load_scene(const YAML::Node& resolved, const std::string& case_file);
 
 }  // namespace ckpd

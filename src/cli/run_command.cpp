@@ -10,14 +10,12 @@
 #include <memory>
 #include <optional>
 
+#include "src/case/case_loader.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/output/beta_report.hpp"
 #include "src/output/checkpoint.hpp"
-#include "src/output/field_writer.hpp"
 #include "src/output/kernel_report.hpp"
-#include "src/output/progress.hpp"
-#include "src/output/run_output.hpp"
-#include "src/case/case_loader.hpp"
+#include "src/output/run_driver.hpp"
 
 namespace ckpd {
 
@@ -63,107 +61,47 @@ int run(const RunOptions& opt) {
   Scene scene = load_scene(opt.case_file, opt.overrides);
   Simulation sim(scene);
   if (!opt.restart.empty()) read_checkpoint(opt.restart, sim);
-  const long long resume = opt.restart.empty() ? -1 : sim.step();
   const double setup_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!opt.quiet) print_setup(sim, std::cout);
 
   std::string out = opt.out_dir;
   if (out.empty()) out = "runs/" + std::filesystem::path(opt.case_file).stem().string();
-  std::error_code ec;
-  std::filesystem::create_directories(out, ec);
-  if (ec || !std::filesystem::is_directory(out))
-    throw std::runtime_error(out + ": cannot create the output directory");
-  HistoryWriter history(out + "/history.csv", resume);
-  // Summaries of earlier runs in this folder must not pass for this one's.
-  std::filesystem::remove(out + "/summary.json", ec);
-
-  const long long total = sim.planned_steps();
-  const long long interval = scene.output.history_interval > 0
-                                 ? scene.output.history_interval
-                                 : std::max<long long>(1, total / 200);
-  std::optional<FieldWriter> fields;
-  if (scene.output.writes_fields()) fields.emplace(out, scene.output.fields, resume);
-  const OutputSettings& o = scene.output;
-  const double dt = sim.step_choice().dt;
-  // Frame k is written at the first step whose time reaches k * field_time_interval.
-  auto frame_due = [&](long long step, double time) {
-    if (!fields) return false;
-    if (o.field_interval > 0) return step % o.field_interval == 0;
-    return time >= static_cast<double>(fields->frames()) * o.field_time_interval - 1e-9 * dt;
-  };
-  if (resume < 0) history.write_row(sim);
-  if (fields && (resume < 0 || fields->frames() == 0)) fields->write_frame(sim);
-  const std::string checkpoint = out + "/checkpoint.h5";
+  RunDriverOptions driver_options;
+  driver_options.out = out;
+  driver_options.restarted_from = opt.restart;
+  driver_options.progress = !opt.quiet;
+  driver_options.start = start;
+  driver_options.setup_seconds = setup_seconds;
+  RunDriver driver(sim, driver_options);
   stop_requested = 0;
   std::signal(SIGINT, request_stop);
   std::signal(SIGTERM, request_stop);
-  auto seconds = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
-  auto summary = [&](const std::string& status, const std::string& message) {
-    auto j = make_summary(sim, status, message, seconds());
-    j["setup_seconds"] = setup_seconds;
-    const long long stepped = sim.step() - std::max(resume, 0LL);  // by this process
-    j["seconds_per_step"] =
-        stepped > 0 ? (seconds() - setup_seconds) / static_cast<double>(stepped) : 0.0;
-    j["threads"] = omp_get_max_threads();
-    if (fields) j["field_frames"] = fields->frames();
-    if (!opt.restart.empty()) j["restarted_from"] = {{"file", opt.restart}, {"step", resume}};
-    return j;
-  };
-  ProgressReporter progress(!opt.quiet, total);
-  // Model breakdown (inverted tetrahedra/triangles) is reported once, when first seen.
-  bool inversion_reported = false;
-  auto report_inversion = [&] {
-    if (inversion_reported || sim.first_inversion().step < 0) return;
-    inversion_reported = true;
-    progress.finish();
-    std::cerr << "ckpd: warning: " << inversion_warning(sim) << '\n';
-  };
-  report_inversion();
   try {
-    while (sim.step() < total) {
-      const long long next = sim.step() + 1;
-      const bool last = next == total;
-      const bool row = next % interval == 0 || last;
-      const bool frame = frame_due(next, static_cast<double>(next) * dt) || (fields && last);
-      sim.advance(row || (frame && fields->needs_energy()));
-      if (row) history.write_row(sim);
-      report_inversion();
-      if (frame) fields->write_frame(sim);
-      progress.update(sim);
-      const bool interval_checkpoint = scene.output.checkpoint_interval > 0 &&
-                                       sim.step() % scene.output.checkpoint_interval == 0;
-      if (interval_checkpoint || stop_requested) write_checkpoint(checkpoint, sim);
+    while (!driver.finished()) {
+      driver.step();
       if (stop_requested) {
-        progress.finish();
-        if (!row) history.write_row(sim);
+        driver.write_checkpoint();
         const std::string message = "interrupted by a signal at step " +
                                     std::to_string(sim.step()) + "; continue with --restart " +
-                                    checkpoint;
-        write_json(out + "/summary.json", summary("interrupted", message));
+                                    driver.checkpoint_path();
+        driver.stop("interrupted", message);
         std::cerr << "ckpd: " << message << '\n';
         return 130;
       }
     }
   } catch (const TunnellingError& e) {
-    progress.finish();
-    history.write_row(sim);
-    write_json(out + "/summary.json", summary("tunnelling", e.what()));
+    driver.stop("tunnelling", e.what());
     std::cerr << "ckpd: " << e.what() << "\nckpd: results up to that step are in " << out << '\n';
     return 3;
   } catch (const InstabilityError& e) {
-    progress.finish();
-    history.write_row(sim);
-    write_json(out + "/summary.json", summary("unstable", e.what()));
+    driver.stop("unstable", e.what());
     std::cerr << "ckpd: " << e.what() << "\nckpd: results up to that step are in " << out << '\n';
     return 3;
   }
-  progress.finish();
-  write_json(out + "/summary.json", summary("completed", ""));
+  driver.stop("completed", "");
   if (!opt.quiet) {
-    std::cout << "completed " << sim.step() << " steps in " << seconds() << " s; peak RSS "
+    std::cout << "completed " << sim.step() << " steps in " << driver.seconds() << " s; peak RSS "
               << peak_rss_mb() << " MB; max damage " << sim.max_damage() << "; results in " << out
               << '\n';
   }

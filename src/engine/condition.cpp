@@ -46,4 +46,18 @@ std::vector<std::uint32_t> select_points(const std::optional<CaseNode>& region,
   return points;
 }
 
+std::uint8_t read_prescribed_components(const std::optional<CaseNode>& node, int dimension) {
+  const std::uint8_t all = dimension == 3 ? 0b111 : 0b011;
+  if (!node) return all;
+  std::uint8_t mask = 0;
+  for (const CaseNode& e : node->elements()) {
+    const std::string name = e.as_string();
+    const int c = name == "x" ? 0 : name == "y" ? 1 : name == "z" && dimension == 3 ? 2 : -1;
+    if (c < 0) e.fail(dimension == 3 ? "x, y or z" : "x or y");
+    mask |= static_cast<std::uint8_t>(1u << c);
+  }
+  if (!mask) node->fail("at least one component");
+  return mask;
+}
+
 }  // namespace ckpd

@@ -7,6 +7,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,14 @@ class Condition {
   virtual double prescribed_acceleration(int /*component*/, double /*t*/) const { return 0; }
   // The largest speed this condition imposes (for the instability guard's speed limit).
   virtual double max_speed() const { return 0; }
+  // The value a controller may change between steps (the Python module's steering): a
+  // prescribed velocity's `value`. Conditions without one refuse (std::invalid_argument). The
+  // instability guard's speed limit stays the one set from the case.
+  virtual bool has_value() const { return false; }
+  virtual Vec3 value() const { return Vec3::Zero(); }
+  virtual void set_value(const Vec3&) {
+    throw std::invalid_argument("this condition has no value that can be changed");
+  }
 
  protected:
   std::vector<std::uint32_t> points_;
@@ -56,5 +65,8 @@ std::unique_ptr<Condition> make_condition(const CaseNode& node, const ConditionT
 // almost always a misplaced region.
 std::vector<std::uint32_t> select_points(const std::optional<CaseNode>& region,
                                          const ConditionTarget& target);
+
+// The `components` of a prescribed motion (x, y, z): a bit mask, all components when absent.
+std::uint8_t read_prescribed_components(const std::optional<CaseNode>& node, int dimension);
 
 }  // namespace ckpd

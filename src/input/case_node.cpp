@@ -142,7 +142,10 @@ void CaseNode::finish() const {
     const std::string key = kv.first.as<std::string>();
     if (!used_->count(key)) {
       std::ostringstream s;
-      s << file_ << ":" << kv.first.Mark().line + 1 << ": " << child_path(path_, key)
+      s << file_;
+      // A case built in memory (a Python dict) has no lines: the key path says where.
+      if (kv.first.Mark().line >= 0) s << ":" << kv.first.Mark().line + 1;
+      s << ": " << child_path(path_, key)
         << ": unknown key '" << key << "'";
       std::string known;
       for (const auto& k : *used_) known += (known.empty() ? "" : ", ") + k;
@@ -165,7 +168,12 @@ YAML::Node load_case_yaml(const std::string& file, const std::vector<std::string
   }
   if (!root.IsMap())
     throw CaseError(file + ": a case file is a map of sections (materials, bodies, ...)");
+  apply_overrides(root, overrides, file);
+  return root;
+}
 
+void apply_overrides(YAML::Node& root, const std::vector<std::string>& overrides,
+                     const std::string& file) {
   for (const std::string& item : overrides) {
     const auto eq = item.find('=');
     if (eq == std::string::npos || eq == 0)
@@ -220,7 +228,6 @@ YAML::Node load_case_yaml(const std::string& file, const std::vector<std::string
       walked = walked.empty() ? key : walked + "." + key;
     }
   }
-  return root;
 }
 
 }  // namespace ckpd

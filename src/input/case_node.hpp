@@ -68,5 +68,8 @@ class CaseNode {
 // and applies `--set key.path=value` overrides: each path must lead through existing maps and
 // sequences (a sequence element by index or by its `name`); the last key may be new.
 YAML::Node load_case_yaml(const std::string& file, const std::vector<std::string>& overrides);
+// The overrides alone, on a case already in memory (`file` names it in the errors).
+void apply_overrides(YAML::Node& root, const std::vector<std::string>& overrides,
+                     const std::string& file);
 
 }  // namespace ckpd

@@ -12,8 +12,8 @@ namespace {
 class PrescribedVelocity : public Condition {
  public:
   PrescribedVelocity(std::vector<std::uint32_t> points, Vec3 value, std::uint8_t components,
-                     double ramp_time)
-      : value_(value), components_(components), ramp_time_(ramp_time) {
+                     double ramp_time, bool steerable)
+      : value_(value), components_(components), ramp_time_(ramp_time), steerable_(steerable) {
     points_ = std::move(points);
   }
   std::uint8_t prescribed_components() const override { return components_; }
@@ -29,46 +29,40 @@ class PrescribedVelocity : public Condition {
         if (components_ & (1u << c)) body.velocity[i][c] = prescribed_velocity(c, 0.0);
   }
   double max_speed() const override { return value_.norm(); }
+  // `fixed` holds its points still: only `velocity` takes a new value.
+  bool has_value() const override { return steerable_; }
+  Vec3 value() const override { return value_; }
+  void set_value(const Vec3& value) override {
+    if (!steerable_) Condition::set_value(value);
+    value_ = value;
+  }
 
  private:
   Vec3 value_;
   std::uint8_t components_;
   double ramp_time_;
+  bool steerable_;
 };
-
-std::uint8_t read_components(const std::optional<CaseNode>& node, int dimension) {
-  const std::uint8_t all = dimension == 3 ? 0b111 : 0b011;
-  if (!node) return all;
-  std::uint8_t mask = 0;
-  for (const CaseNode& e : node->elements()) {
-    const std::string name = e.as_string();
-    const int c = name == "x" ? 0 : name == "y" ? 1 : name == "z" && dimension == 3 ? 2 : -1;
-    if (c < 0) e.fail(dimension == 3 ? "x, y or z" : "x or y");
-    mask |= static_cast<std::uint8_t>(1u << c);
-  }
-  if (!mask) node->fail("at least one component");
-  return mask;
-}
 
 const bool velocity_registered =
     register_condition("velocity", [](const CaseNode& n, const ConditionTarget& t) {
       const int dim = t.body.dimension;
       auto points = select_points(n.optional("region"), t);
       const Vec3 value = n.required("value").as_vector(dim);
-      const std::uint8_t components = read_components(n.optional("components"), dim);
+      const std::uint8_t components = read_prescribed_components(n.optional("components"), dim);
       double ramp = 0;
       if (auto r = n.optional("ramp_time")) ramp = r->as_non_negative();
       return std::unique_ptr<Condition>(
-          new PrescribedVelocity(std::move(points), value, components, ramp));
+          new PrescribedVelocity(std::move(points), value, components, ramp, true));
     });
 
 const bool fixed_registered =
     register_condition("fixed", [](const CaseNode& n, const ConditionTarget& t) {
       const int dim = t.body.dimension;
       auto points = select_points(n.optional("region"), t);
-      const std::uint8_t components = read_components(n.optional("components"), dim);
+      const std::uint8_t components = read_prescribed_components(n.optional("components"), dim);
       return std::unique_ptr<Condition>(
-          new PrescribedVelocity(std::move(points), Vec3::Zero(), components, 0.0));
+          new PrescribedVelocity(std::move(points), Vec3::Zero(), components, 0.0, false));
     });
 
 }  // namespace

@@ -1,0 +1,93 @@
+#include "python/src/case_from_python.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "src/input/case_node.hpp"
+
+namespace py = pybind11;
+
+namespace ckpd::python {
+
+namespace {
+
+// Shortest text that reads back as the same double (Python's repr), in YAML's spelling of the
+// non-finite values.
+std::string number_text(double x) {
+  if (std::isnan(x)) return ".nan";
+  if (std::isinf(x)) return x > 0 ? ".inf" : "-.inf";
+  return py::repr(py::float_(x)).cast<std::string>();
+}
+
+std::string child(const std::string& path, const std::string& key) {
+  return path.empty() ? key : path + "." + key;
+}
+
+}  // namespace
+
+YAML::Node to_yaml(const py::handle& value, const std::string& path) {
+  const std::string where = "case dict: " + (path.empty() ? std::string("(top level)") : path);
+  if (value.is_none()) return YAML::Node(YAML::NodeType::Null);
+  if (py::isinstance<py::bool_>(value)) return YAML::Node(value.cast<bool>() ? "true" : "false");
+  if (py::isinstance<py::str>(value)) return YAML::Node(value.cast<std::string>());
+  if (py::isinstance<py::dict>(value)) {
+    YAML::Node map(YAML::NodeType::Map);
+    for (const auto& [k, v] : value.cast<py::dict>()) {
+      if (!py::isinstance<py::str>(k))
+        throw CaseError(where + ": keys are strings, got " + py::repr(k).cast<std::string>());
+      const std::string key = k.cast<std::string>();
+      map[key] = to_yaml(v, child(path, key));
+    }
+    return map;
+  }
+  // numpy arrays and scalars first: an array is not a list, a numpy bool is not a bool.
+  if (py::hasattr(value, "tolist") && py::hasattr(value, "dtype"))
+    return to_yaml(value.attr("tolist")(), path);
+  if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
+    YAML::Node seq(YAML::NodeType::Sequence);
+    std::size_t i = 0;
+    for (const py::handle& e : value)
+      seq.push_back(to_yaml(e, path + "[" + std::to_string(i++) + "]"));
+    return seq;
+  }
+  if (py::isinstance<py::int_>(value)) return YAML::Node(py::str(value).cast<std::string>());
+  if (py::isinstance<py::float_>(value)) return YAML::Node(number_text(value.cast<double>()));
+  throw CaseError(where + ": expected a dict, list, string, number, bool or None, got " +
+                  py::repr(py::type::of(value)).cast<std::string>());
+}
+
+std::vector<std::string> override_strings(const py::handle& overrides) {
+  std::vector<std::string> out;
+  if (overrides.is_none()) return out;
+  if (py::isinstance<py::dict>(overrides)) {
+    for (const auto& [k, v] : overrides.cast<py::dict>()) {
+      const std::string key = py::str(k).cast<std::string>();
+      YAML::Emitter text;
+      text << YAML::Flow << to_yaml(v, key);
+      out.push_back(key + "=" + text.c_str());
+    }
+    return out;
+  }
+  if (py::isinstance<py::str>(overrides))
+    throw CaseError(
+        "overrides: expected a dict or a list of 'key.path=value' strings, got a string");
+  for (const py::handle& item : overrides) out.push_back(py::str(item).cast<std::string>());
+  return out;
+}
+
+ResolvedCase resolve_case(const py::handle& source, const py::handle& overrides) {
+  const std::vector<std::string> sets = override_strings(overrides);
+  if (py::isinstance<py::dict>(source)) {
+    ResolvedCase c{to_yaml(source, ""), "case dict"};
+    apply_overrides(c.root, sets, c.name);
+    return c;
+  }
+  const py::module_ os = py::module_::import("os");
+  if (!py::isinstance<py::str>(source) && !py::hasattr(source, "__fspath__"))
+    throw CaseError("case: expected a case file (str or path) or a dict, got " +
+                    py::repr(py::type::of(source)).cast<std::string>());
+  const std::string file = os.attr("fspath")(source).cast<std::string>();
+  return {load_case_yaml(file, sets), file};
+}
+
+}  // namespace ckpd::python

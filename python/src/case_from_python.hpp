@@ -1,0 +1,31 @@
+#pragma once
+// Cases from Python: a path or a dict with the case file's schema. A dict becomes a YAML node
+// tree without line marks, so the case loader's errors name its key paths ("bodies[0].spacing")
+// where a file's would add the line. Overrides are `--set`'s: "key.path=value" strings or a
+// dict {"key.path": value}.
+#include <pybind11/pybind11.h>
+#include <yaml-cpp/yaml.h>
+
+#include <string>
+#include <vector>
+
+namespace ckpd::python {
+
+// What a case was given as, resolved: the YAML tree with the overrides applied, and the name
+// its errors and summary.json use (the file, or "case dict").
+struct ResolvedCase {
+  YAML::Node root;
+  std::string name;
+};
+
+// `source`: str or os.PathLike (a case file) or dict. Throws CaseError.
+ResolvedCase resolve_case(const pybind11::handle& source, const pybind11::handle& overrides);
+
+// A Python value (dict, list, tuple, str, bool, int, float, None, numpy scalars and arrays) as
+// a YAML node; `path` names it in the CaseError for anything else.
+YAML::Node to_yaml(const pybind11::handle& value, const std::string& path);
+
+// `overrides` (None, a dict or a list of "key=value" strings) as `--set` strings.
+std::vector<std::string> override_strings(const pybind11::handle& overrides);
+
+}  // namespace ckpd::python

@@ -1,0 +1,108 @@
+#include "src/output/run_driver.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <stdexcept>
+
+#include "src/output/checkpoint.hpp"
+
+namespace ckpd {
+
+RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
+    : sim_(sim),
+      options_(std::move(options)),
+      resume_(options_.restarted_from.empty() ? -1 : sim.step()),
+      total_(sim.planned_steps()),
+      progress_(options_.progress, sim.planned_steps()) {
+  const OutputSettings& o = sim_.scene().output;
+  interval_ = o.history_interval > 0 ? o.history_interval : std::max<long long>(1, total_ / 200);
+  if (!options_.out.empty()) {
+    const std::string& out = options_.out;
+    std::error_code ec;
+    std::filesystem::create_directories(out, ec);
+    if (ec || !std::filesystem::is_directory(out))
+      throw std::runtime_error(out + ": cannot create the output directory");
+    history_.emplace(out + "/history.csv", resume_);
+    // Summaries of earlier runs in this folder must not pass for this one's.
+    std::filesystem::remove(out + "/summary.json", ec);
+    if (o.writes_fields()) fields_.emplace(out, o.fields, resume_);
+  }
+  if (resume_ < 0 && history_) history_->write_row(sim_);
+  if (resume_ < 0) row_step_ = sim_.step();
+  if (fields_ && (resume_ < 0 || fields_->frames() == 0)) fields_->write_frame(sim_);
+  // Model breakdown (inverted tetrahedra/triangles) is reported once, when first seen.
+  report_inversion();
+}
+
+double RunDriver::seconds() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - options_.start).count();
+}
+
+// Frame k is written at the first step whose time reaches k * field_time_interval.
+bool RunDriver::frame_due(long long step, double time) const {
+  if (!fields_) return false;
+  const OutputSettings& o = sim_.scene().output;
+  if (o.field_interval > 0) return step % o.field_interval == 0;
+  return time >= static_cast<double>(fields_->frames()) * o.field_time_interval -
+                     1e-9 * sim_.step_choice().dt;
+}
+
+void RunDriver::report_inversion() {
+  if (inversion_reported_ || sim_.first_inversion().step < 0) return;
+  inversion_reported_ = true;
+  progress_.finish();
+  std::cerr << "ckpd: warning: " << inversion_warning(sim_) << '\n';
+}
+
+void RunDriver::step(bool with_energy) {
+  if (finished()) throw std::logic_error("RunDriver::step: the run has reached its last step");
+  const long long next = sim_.step() + 1;
+  const bool last = next == total_;
+  const bool row = next % interval_ == 0 || last;
+  const double dt = sim_.step_choice().dt;
+  const bool frame = frame_due(next, static_cast<double>(next) * dt) || (fields_ && last);
+  sim_.advance(with_energy || row || (frame && fields_->needs_energy()));
+  if (row) {
+    if (history_) history_->write_row(sim_);
+    row_step_ = sim_.step();
+  }
+  report_inversion();
+  if (frame) fields_->write_frame(sim_);
+  progress_.update(sim_);
+  const long long every = sim_.scene().output.checkpoint_interval;
+  if (every > 0 && sim_.step() % every == 0) write_checkpoint();
+}
+
+void RunDriver::write_checkpoint() {
+  if (options_.out.empty() || checkpoint_step_ == sim_.step()) return;
+  ckpd::write_checkpoint(checkpoint_path(), sim_);
+  checkpoint_step_ = sim_.step();
+}
+
+nlohmann::ordered_json RunDriver::summary(const std::string& status,
+                                          const std::string& message) const {
+  auto j = make_summary(sim_, status, message, seconds());
+  j["setup_seconds"] = options_.setup_seconds;
+  const long long stepped = sim_.step() - std::max(resume_, 0LL);  // by this process
+  j["seconds_per_step"] =
+      stepped > 0 ? (seconds() - options_.setup_seconds) / static_cast<double>(stepped) : 0.0;
+  j["threads"] = omp_get_max_threads();
+  if (fields_) j["field_frames"] = fields_->frames();
+  if (!options_.restarted_from.empty())
+    j["restarted_from"] = {{"file", options_.restarted_from}, {"step", resume_}};
+  return j;
+}
+
+void RunDriver::stop(const std::string& status, const std::string& message) {
+  progress_.finish();
+  if (row_step_ != sim_.step()) {
+    if (history_) history_->write_row(sim_);
+    row_step_ = sim_.step();
+  }
+  if (!options_.out.empty()) write_json(options_.out + "/summary.json", summary(status, message));
+}
+
+}  // namespace ckpd

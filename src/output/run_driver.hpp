@@ -1,0 +1,68 @@
+#pragma once
+// A run with the output of `ckpd run`: the history row and field frame at the start, then after
+// each step the history rows, field frames and checkpoints that are due, and summary.json when
+// the run stops. `ckpd run` and the Python module both step through it, so the same case writes
+// the same files from either. Without an output folder it writes nothing but keeps the same
+// schedule of energy evaluations (so the energy guard runs on the same steps).
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "src/output/field_writer.hpp"
+#include "src/output/progress.hpp"
+#include "src/output/run_output.hpp"
+
+namespace ckpd {
+
+struct RunDriverOptions {
+  std::string out;             // output folder (created); empty: no files at all
+  std::string restarted_from;  // the checkpoint the simulation was restored from, if any
+  bool progress = false;       // the progress line on stdout
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+  double setup_seconds = 0;  // case loading and set-up, for the summary
+};
+
+class RunDriver {
+ public:
+  // Creates the folder, starts (or, after a restart, continues) history.csv and the field
+  // frames, removes an earlier summary.json and writes the initial row and frame. Throws
+  // std::runtime_error naming a path that cannot be written.
+  RunDriver(Simulation& sim, RunDriverOptions options);
+
+  long long total_steps() const { return total_; }
+  bool finished() const { return sim_.step() >= total_; }
+  // One step and the output due after it. `with_energy` also evaluates the strain energy when
+  // no output needs it (a caller that reads the energies after this step). Throws
+  // InstabilityError (or TunnellingError) from the step; call stop() then.
+  void step(bool with_energy = false);
+  // Writes DIR/checkpoint.h5 unless this step has written it already.
+  void write_checkpoint();
+  // Ends the run: the history row of the current step (unless it has one) and summary.json
+  // with `status` ("completed", "unstable", ...) and `message`.
+  void stop(const std::string& status, const std::string& message);
+  // The summary as it would be written now.
+  nlohmann::ordered_json summary(const std::string& status, const std::string& message) const;
+
+  const std::string& out() const { return options_.out; }
+  std::string checkpoint_path() const { return options_.out + "/checkpoint.h5"; }
+  double seconds() const;
+
+ private:
+  bool frame_due(long long step, double time) const;
+  void report_inversion();
+
+  Simulation& sim_;
+  RunDriverOptions options_;
+  long long resume_ = -1;
+  long long total_ = 0;
+  long long interval_ = 1;
+  std::optional<HistoryWriter> history_;
+  std::optional<FieldWriter> fields_;
+  ProgressReporter progress_;
+  long long row_step_ = -1;         // the step of the last history row
+  long long checkpoint_step_ = -1;  // the step of the last checkpoint
+  bool inversion_reported_ = false;
+};
+
+}  // namespace ckpd
