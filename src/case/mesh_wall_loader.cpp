@@ -1,6 +1,7 @@
 #include "src/case/mesh_wall_loader.hpp"
 
 #include "src/geometry/mesh/mesh_properties.hpp"
+#include "src/geometry/mesh/mesh_source.hpp"
 
 namespace ckpd {
 
@@ -38,6 +39,7 @@ SceneBody read_mesh_wall(const CaseNode& n, const CaseNode& w, const std::string
     throw CaseError(n.where() + ": " + e.what());
   }
   sb.wall = std::make_shared<const MeshWall>(mesh.vertex, mesh.triangle, carriers);
+  sb.wall_surface = loaded.mesh;
   sb.mesh = loaded.info;
   sb.mesh->wall = true;
   return sb;

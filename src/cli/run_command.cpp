@@ -9,15 +9,18 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <sstream>
 
+#include "src/case/case_loader.hpp"
+#include "src/cli/cli_options.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/output/beta_report.hpp"
 #include "src/output/checkpoint.hpp"
 #include "src/output/field_writer.hpp"
 #include "src/output/kernel_report.hpp"
 #include "src/output/progress.hpp"
+#include "src/output/run_log.hpp"
 #include "src/output/run_output.hpp"
-#include "src/case/case_loader.hpp"
 
 namespace ckpd {
 
@@ -38,9 +41,25 @@ extern "C" void request_stop(int) {
   stop_requested = 1;
 }
 
+// A rigid body has no interactions: its line says what it is instead of zero constants.
+void print_rigid_setup(const SceneBody& sb, std::ostream& os) {
+  const Body& b = sb.body;
+  os << "body '" << b.name << "': rigid, " << (sb.rigid->prescribed() ? "prescribed" : "free")
+     << " motion, mass " << sb.rigid->mass() << " kg, ";
+  if (sb.wall && sb.mesh)
+    os << "mesh wall of " << sb.mesh->triangles << " triangles (" << b.size()
+       << " carrier points)\n";
+  else
+    os << b.dimension << "D, " << b.size() << " points, dx " << sb.spacing << " m\n";
+}
+
 void print_setup(const Simulation& sim, std::ostream& os) {
   for (const SceneBody& sb : sim.scene().bodies) {
     const Body& b = sb.body;
+    if (sb.rigid) {
+      print_rigid_setup(sb, os);
+      continue;
+    }
     os << "body '" << b.name << "': " << b.dimension << "D, " << b.size() << " points, "
        << b.bond_count() << " bonds, N2 " << b.total_two_neighbour() << ", N3 "
        << b.total_three_neighbour() << ", dx " << sb.spacing << " m, horizon " << b.horizon
@@ -53,8 +72,20 @@ void print_setup(const Simulation& sim, std::ostream& os) {
   const StepChoice& s = sim.step_choice();
   os << "time step: estimate " << s.estimate << " s (body '" << s.limiting_body << "', point "
      << s.limiting_point << "), " << (s.user_dt ? "case dt " : "safety ") << s.safety
-     << " x estimate -> dt " << s.dt << " s, " << sim.planned_steps() << " steps\n";
+     << " x estimate -> dt " << s.dt << " s, " << sim.planned_steps() << " steps";
+  if (const double last = sim.step_size(sim.planned_steps()); last != s.dt)
+    os << " (the last one " << last << " s: the run ends exactly at time.end)";
+  os << '\n';
   if (std::isfinite(s.speed_step)) os << "  " << contact_speed_note(s) << '\n';
+}
+
+// What summary.json records of how the run was made: the command line, the overrides, the
+// program's version and build.
+nlohmann::ordered_json provenance(const RunOptions& opt) {
+  return {{"command_line", command_line()},
+          {"overrides", opt.overrides},
+          {"working_directory", std::filesystem::current_path().string()},
+          {"build", build_json()}};
 }
 
 int run(const RunOptions& opt) {
@@ -66,7 +97,9 @@ int run(const RunOptions& opt) {
   const long long resume = opt.restart.empty() ? -1 : sim.step();
   const double setup_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!opt.quiet) print_setup(sim, std::cout);
+  std::ostringstream setup;
+  print_setup(sim, setup);
+  if (!opt.quiet) std::cout << setup.str();
 
   std::string out = opt.out_dir;
   if (out.empty()) out = "runs/" + std::filesystem::path(opt.case_file).stem().string();
@@ -74,7 +107,14 @@ int run(const RunOptions& opt) {
   std::filesystem::create_directories(out, ec);
   if (ec || !std::filesystem::is_directory(out))
     throw std::runtime_error(out + ": cannot create the output directory");
-  HistoryWriter history(out + "/history.csv", resume);
+  RunLog log(out + "/run.log", resume >= 0);
+  log.write(version_line());
+  log.write("command: " + command_line());
+  for (const std::string& o : opt.overrides) log.write("override: --set " + o);
+  if (resume >= 0)
+    log.write("restarted from " + opt.restart + " at step " + std::to_string(resume));
+  log.write(setup.str());
+  HistoryWriter history(out + "/history.csv", resume, scene.output.history);
   // Summaries of earlier runs in this folder must not pass for this one's.
   std::filesystem::remove(out + "/summary.json", ec);
 
@@ -110,9 +150,12 @@ int run(const RunOptions& opt) {
     j["threads"] = omp_get_max_threads();
     if (fields) j["field_frames"] = fields->frames();
     if (!opt.restart.empty()) j["restarted_from"] = {{"file", opt.restart}, {"step", resume}};
+    j["provenance"] = provenance(opt);
     return j;
   };
   ProgressReporter progress(!opt.quiet, total);
+  progress.set_log([&log](const std::string& line) { log.write(line); });
+  progress.energy_evaluated(sim);
   // Model breakdown (inverted tetrahedra/triangles) is reported once, when first seen.
   bool inversion_reported = false;
   auto report_inversion = [&] {
@@ -120,6 +163,7 @@ int run(const RunOptions& opt) {
     inversion_reported = true;
     progress.finish();
     std::cerr << "ckpd: warning: " << inversion_warning(sim) << '\n';
+    log.write("warning: " + inversion_warning(sim));
   };
   report_inversion();
   try {
@@ -128,7 +172,9 @@ int run(const RunOptions& opt) {
       const bool last = next == total;
       const bool row = next % interval == 0 || last;
       const bool frame = frame_due(next, static_cast<double>(next) * dt) || (fields && last);
-      sim.advance(row || (frame && fields->needs_energy()));
+      const bool with_energy = row || (frame && fields->needs_energy());
+      sim.advance(with_energy);
+      if (with_energy) progress.energy_evaluated(sim);
       if (row) history.write_row(sim);
       report_inversion();
       if (frame) fields->write_frame(sim);
@@ -144,6 +190,7 @@ int run(const RunOptions& opt) {
                                     checkpoint;
         write_json(out + "/summary.json", summary("interrupted", message));
         std::cerr << "ckpd: " << message << '\n';
+        log.write(message);
         return 130;
       }
     }
@@ -151,22 +198,25 @@ int run(const RunOptions& opt) {
     progress.finish();
     history.write_row(sim);
     write_json(out + "/summary.json", summary("tunnelling", e.what()));
+    log.write(std::string("stopped: ") + e.what());
     std::cerr << "ckpd: " << e.what() << "\nckpd: results up to that step are in " << out << '\n';
     return 3;
   } catch (const InstabilityError& e) {
     progress.finish();
     history.write_row(sim);
     write_json(out + "/summary.json", summary("unstable", e.what()));
+    log.write(std::string("stopped: ") + e.what());
     std::cerr << "ckpd: " << e.what() << "\nckpd: results up to that step are in " << out << '\n';
     return 3;
   }
   progress.finish();
   write_json(out + "/summary.json", summary("completed", ""));
-  if (!opt.quiet) {
-    std::cout << "completed " << sim.step() << " steps in " << seconds() << " s; peak RSS "
-              << peak_rss_mb() << " MB; max damage " << sim.max_damage() << "; results in " << out
-              << '\n';
-  }
+  std::ostringstream final_line;
+  final_line << "completed " << sim.step() << " steps to t = " << sim.time() << " s in "
+             << seconds() << " s; peak RSS " << peak_rss_mb() << " MB; max damage "
+             << sim.max_damage() << "; results in " << out;
+  log.write(final_line.str());
+  if (!opt.quiet) std::cout << final_line.str() << '\n';
   return 0;
 }
 
@@ -178,8 +228,7 @@ void add_run_command(CLI::App& app, int& exit_status) {
   cmd->add_option("case", opt->case_file, "case file (YAML)")->required();
   cmd->add_option("--out", opt->out_dir, "output directory (default: runs/<case name>)");
   cmd->add_option("--set", opt->overrides, "override a case value: key.path=value (repeatable)");
-  cmd->add_option("--threads", opt->threads, "OpenMP threads (default: all cores)")
-      ->check(CLI::PositiveNumber);
+  add_threads_option(*cmd, opt->threads);
   cmd->add_option("--restart", opt->restart,
                   "continue from a checkpoint of this case (DIR/checkpoint.h5, written every "
                   "output.checkpoint_interval steps and on SIGINT/SIGTERM)");
