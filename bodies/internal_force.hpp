@@ -1,5 +1,5 @@
 #pragma once
-// CKPD internal force density b1 + b2 + b3 (MODEL.md section 2, seed 000 eqs. 2.14, 2.22, 2.30)
+// CKPD internal force density b1 + b2 + b3 (THEORY.md section 2, seed 000 eqs. 2.14, 2.22, 2.30)
 // summed over unordered pairs and triples with the exact symmetric rewriting: per unordered pair
 // the two orders give 2 C2 dV2 (1/A - 1/|a|) (dx^ik - dx^ij) x a, per unordered triple the six
 // orders give 6 C3 dV3 (1/|V| - 1/|v|) v (q x r + r x p + p x q).

@@ -165,7 +165,7 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
   }
   // lattice_stencil: false keeps the general kernel path on a lattice body (comparisons).
   if (auto f = n.optional("lattice_stencil")) def.lattice_stencil = f->as_bool();
-  // constants: analytic (docs/THEORY.md section 3, default) or calibrated to the lattice's patch
+  // constants: analytic (THEORY.md section 3, default) or calibrated to the lattice's patch
   // test (bodies/patch_test.hpp: exact bulk and uniaxial-strain moduli for this spacing and m).
   bool calibrated = false;
   std::optional<CaseNode> constants_node = n.optional("constants");

@@ -1,5 +1,5 @@
 #pragma once
-// Velocity-Verlet time integration of all bodies (docs/THEORY.md section 6), the stable-step
+// Velocity-Verlet time integration of all bodies (THEORY.md section 6), the stable-step
 // choice, energy bookkeeping and the instability guard.
 #include <cstdint>
 #include <limits>

@@ -1,4 +1,4 @@
-// `pressure_pulse`: the body-force pulse of docs/THEORY.md section 7 on a layer of points,
+// `pressure_pulse`: the body-force pulse of THEORY.md section 7 on a layer of points,
 // b_ext = p(t)/dx n with p(t) = -4 p0/t1^2 (t - t1/2)^2 + p0 for t <= t1, else 0. `peak` is p0
 // (N/m in 2D, N/m^2 in 3D), `duration` t1, `direction` n (normalised here).
 #include "src/engine/condition.hpp"

@@ -1,5 +1,5 @@
 // `velocity`: prescribed velocity on a region, constant or ramped linearly from 0 over
-// `ramp_time` (docs/THEORY.md section 7), or tabulated over time (`value: {table: [[t, vx, vy, vz],
+// `ramp_time` (THEORY.md section 7), or tabulated over time (`value: {table: [[t, vx, vy, vz],
 // ...]}`, src/engine/time_table.hpp), on all or some components. `fixed`: zero velocity.
 #include <algorithm>
 #include <cmath>
