@@ -58,7 +58,7 @@ TEST_CASE("usage errors exit 2 with one line naming the bad argument", "[cli][us
   expect_usage_error("run " + file + " " + file, file);
 }
 
-TEST_CASE("--help and --version exit 0; --version names the version and the build",
+TEST_CASE("the help and the version exit 0; the version names the version and the build",
           "[cli][usage]") {
   CommandResult r = run_ckpd("--help");
   CHECK(r.exit_code == 0);
@@ -126,8 +126,9 @@ TEST_CASE("nearest_name suggests only close names", "[cli][usage]") {
   CHECK(ckpd::nearest_name("ab", {"xy"}).empty());
 }
 
-TEST_CASE("--set time.steps replaces the case's time.end, and time.end its time.steps",
-          "[cli][usage]") {
+TEST_CASE(
+    "time.steps set on the command line replaces the case's time.end, and time.end its time.steps",
+    "[cli][usage]") {
   const auto dir = fresh_dir("set-steps");
   const std::string file = case_file(dir);
   CommandResult r =
