@@ -42,8 +42,7 @@ std::string check_command_name(int argc, char** argv, const CLI::App& app) {
   std::vector<std::string> names;
   for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
     names.push_back(sub->get_name());
-  std::string list;
-  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  const std::string list = ckpd::join_names(names);
   if (argc < 2) return "no command given (commands: " + list + ")";
   const std::string first = argv[1];
   if (first.empty() || first[0] == '-') return "";

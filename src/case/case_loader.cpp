@@ -315,12 +315,10 @@ HistoryQuantity read_history_quantity(const CaseNode& e, const Scene& scene) {
   const CaseNode quantity = e.required("quantity");
   q.quantity = quantity.as_string();
   const HistoryQuantityKind* kind = find_history_quantity(q.quantity);
-  if (!kind) {
-    std::vector<std::string> names;
-    for (const HistoryQuantityKind& k : history_quantity_table()) names.push_back(k.name);
-    quantity.fail("a history quantity" + did_you_mean(q.quantity, names) +
+  if (!kind)
+    quantity.fail("a history quantity" +
+                  did_you_mean(q.quantity, row_names(history_quantity_table())) +
                   " (known: " + known_history_quantities() + ")");
-  }
   auto body_index = [&](const CaseNode& n) {
     const std::string name = n.as_string();
     std::vector<std::string> names;
@@ -328,9 +326,7 @@ HistoryQuantity read_history_quantity(const CaseNode& e, const Scene& scene) {
       if (scene.bodies[k].body.name == name) return k;
       names.push_back(scene.bodies[k].body.name);
     }
-    std::string list;
-    for (const std::string& b : names) list += (list.empty() ? "" : ", ") + b;
-    n.fail("a body's name" + did_you_mean(name, names) + " (bodies: " + list + ")");
+    n.fail("a body's name" + did_you_mean(name, names) + " (bodies: " + join_names(names) + ")");
   };
   std::string label = q.quantity;
   if (kind->bodies == 1) {

@@ -201,13 +201,7 @@ void CaseNode::finish() const {
       if (const std::string near = nearest_name(key, known); !near.empty())
         s << " (did you mean '" << near << "'?)";
       else if (!known.empty())
-        s << " (expected one of: " <<
-            [&] {
-              std::string list;
-              for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-              return list;
-            }()
-          << ")";
+        s << " (expected one of: " << join_names(known) << ")";
       throw CaseError(s.str());
     }
   }

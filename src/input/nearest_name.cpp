@@ -43,4 +43,10 @@ std::string did_you_mean(const std::string& name, const std::vector<std::string>
   return near.empty() ? "" : " (did you mean '" + near + "'?)";
 }
 
+std::string join_names(const std::vector<std::string>& names) {
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  return list;
+}
+
 }  // namespace ckpd

@@ -1,6 +1,7 @@
 #include "src/output/field_table.hpp"
 
 #include "bodies/damage.hpp"
+#include "src/input/nearest_name.hpp"
 #include "src/output/point_strain.hpp"
 
 namespace ckpd {
@@ -117,24 +118,16 @@ const std::vector<FieldSpec>& field_table() {
 }
 
 const FieldSpec* find_field(const std::string& name) {
-  for (const FieldSpec& f : field_table())
-    if (f.name == name) return &f;
-  return nullptr;
+  return find_row(field_table(), name);
 }
 
 const std::vector<std::string>& known_field_names() {
-  static const std::vector<std::string> names = [] {
-    std::vector<std::string> n;
-    for (const FieldSpec& f : field_table()) n.push_back(f.name);
-    return n;
-  }();
+  static const std::vector<std::string> names = row_names(field_table());
   return names;
 }
 
 std::string known_field_list() {
-  std::string list;
-  for (const std::string& n : known_field_names()) list += (list.empty() ? "" : ", ") + n;
-  return list;
+  return join_names(known_field_names());
 }
 
 const char* xdmf_attribute_type(int components) {

@@ -1,6 +1,7 @@
 #include "src/output/history_quantities.hpp"
 
 #include "bodies/fragments.hpp"
+#include "src/input/nearest_name.hpp"
 
 namespace ckpd {
 
@@ -118,16 +119,11 @@ const std::vector<HistoryQuantityKind>& history_quantity_table() {
 }
 
 const HistoryQuantityKind* find_history_quantity(const std::string& name) {
-  for (const HistoryQuantityKind& k : history_quantity_table())
-    if (k.name == name) return &k;
-  return nullptr;
+  return find_row(history_quantity_table(), name);
 }
 
 std::string known_history_quantities() {
-  std::string list;
-  for (const HistoryQuantityKind& k : history_quantity_table())
-    list += (list.empty() ? "" : ", ") + k.name;
-  return list;
+  return join_names(row_names(history_quantity_table()));
 }
 
 std::string history_quantity_problem(const Scene& scene, const HistoryQuantity& q) {
