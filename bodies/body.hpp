@@ -1,6 +1,6 @@
 #pragma once
 // One CKPD body: structure-of-arrays point data, its bond families, the per-point interaction
-// counts and effective volumes (MODEL.md sections 1-4). Two- and three-neighbour sets are never
+// counts and effective volumes (THEORY.md sections 1-4). Two- and three-neighbour sets are never
 // stored: they are enumerated from the bond family whenever they are needed.
 #include <cstdint>
 #include <limits>
@@ -18,11 +18,11 @@ namespace ckpd {
 struct LatticeStencil;
 
 // Below this fraction of the product of its edge lengths from the centre point, a triangle's
-// area or a tetrahedron's volume counts as degenerate (MODEL.md section 1); a body may raise it
+// area or a tetrahedron's volume counts as degenerate (THEORY.md section 1); a body may raise it
 // (BodyDefinition::degenerate_fraction).
 inline constexpr double kDegenerateFraction = 1e-10;
 
-// Bonds whose reference segment crosses this surface start failed (MODEL.md section 4).
+// Bonds whose reference segment crosses this surface start failed (THEORY.md section 4).
 // Two corners: a segment in the z = 0 plane (2D bodies). Three or more: a planar convex polygon
 // (3D bodies). A bond is cut when its end points lie strictly on opposite sides of the line or
 // plane and the crossing point lies inside the segment or polygon (edges included).
@@ -30,8 +30,8 @@ struct Precrack {
   std::vector<Vec3> corners;
 };
 
-// Which failed bonds switch a two- or three-neighbour set off (MODEL.md section 4).
-// centre_bonds (MODEL.md): for vertex c, a set is off when one of c's own bonds in it failed, so
+// Which failed bonds switch a two- or three-neighbour set off (THEORY.md section 4).
+// centre_bonds (THEORY.md): for vertex c, a set is off when one of c's own bonds in it failed, so
 // a triangle or tetrahedron can stay on for some vertices and be off for others; the damaged
 // forces are then not the gradient of one energy. all_edges: a set is on for all its vertices
 // while every edge (3 of a triangle, 6 of a tetrahedron) is intact and off for all of them
@@ -53,7 +53,7 @@ struct BodyDefinition {
   // Bonds fail when their stretch exceeds this; +inf disables damage (no damage bookkeeping).
   double critical_stretch = std::numeric_limits<double>::infinity();
   // Sum of the point volumes that an interior point's family holds in this discretisation;
-  // beta^i is the family's point volume over this (MODEL.md section 1). For a lattice it is the
+  // beta^i is the family's point volume over this (THEORY.md section 1). For a lattice it is the
   // number of lattice offsets within the horizon times the cell volume.
   double full_family_volume = 0;
   // A family volume above the full one is an error unless this is set; then beta is capped at

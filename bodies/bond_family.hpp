@@ -1,5 +1,5 @@
 #pragma once
-// One-neighbour families H1 (MODEL.md section 1) in compressed sparse rows: the neighbours of
+// One-neighbour families H1 (THEORY.md section 1) in compressed sparse rows: the neighbours of
 // point i are neighbour[offset[i] .. offset[i+1]), sorted by index. Built once, in the
 // reference configuration, with a cell list; every bond is stored from both ends, so a point's
 // sum is its own and needs no locking.

@@ -1,5 +1,5 @@
 #pragma once
-// Bond failure (MODEL.md section 4). Only bonds fail; the two- and three-neighbour factors d2,
+// Bond failure (THEORY.md section 4). Only bonds fail; the two- and three-neighbour factors d2,
 // d3 follow from the bonds of the centre point (or, under DamageRule::all_edges, from all edges
 // of the set) and are applied where those sets are enumerated (failed bonds are simply not
 // loaded into the family scratch).

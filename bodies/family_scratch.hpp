@@ -1,6 +1,6 @@
 #pragma once
 // Enumerates the two- and three-neighbour sets of one point on the fly from its bond family
-// (MODEL.md section 2): unordered pairs a < b and triples a < b < c of family slots whose
+// (THEORY.md section 2): unordered pairs a < b and triples a < b < c of family slots whose
 // members are pairwise within the horizon. Adjacency between slots is kept as bit rows so the
 // triple candidates of a pair are one AND of two rows. One scratch per thread; it only grows.
 #include <algorithm>

@@ -1,5 +1,5 @@
 #pragma once
-// Elastic and fracture constants of a CKPD body (MODEL.md sections 3 and 4).
+// Elastic and fracture constants of a CKPD body (THEORY.md sections 3 and 4).
 #include <string>
 
 namespace ckpd {
@@ -31,11 +31,11 @@ void check_elastic_input(int dimension, double youngs_modulus, double poisson_ra
 ElasticModuli elastic_moduli(int dimension, double youngs_modulus, double poisson_ratio,
                              PlaneMode plane);
 
-// C1, C2, C3 of MODEL.md section 3 (seed 000 eqs. 4.1, 4.2).
+// C1, C2, C3 of THEORY.md section 3 (seed 000 eqs. 4.1, 4.2).
 InteractionConstants interaction_constants(int dimension, double youngs_modulus,
                                            double poisson_ratio, PlaneMode plane, double horizon);
 
-// Critical bond stretch from the Griffith energy Gc (MODEL.md section 4, seed 000 eq. 3.3).
+// Critical bond stretch from the Griffith energy Gc (THEORY.md section 4, seed 000 eq. 3.3).
 double critical_stretch_from_fracture_energy(int dimension, double youngs_modulus,
                                              double poisson_ratio, PlaneMode plane, double horizon,
                                              double fracture_energy);

@@ -1,5 +1,5 @@
 #pragma once
-// The patch test of MODEL.md section 2: an interior lattice point under a homogeneous small
+// The patch test of THEORY.md section 2: an interior lattice point under a homogeneous small
 // strain x = (I + e) X; the ratio of its strain-energy density W1/2 + W2/3 + W3/4 to the
 // continuum's lambda/2 tr(e)^2 + mu e:e is the discretisation's stiffness error.
 #include <cstdint>

@@ -1,16 +1,16 @@
 #pragma once
-// CKPD internal force density (MODEL.md section 2) with every interaction evaluated ONCE.
+// CKPD internal force density (THEORY.md section 2) with every interaction evaluated ONCE.
 //
 // The reference kernel (reference/internal_force.hpp) visits each point's family and so computes
 // every bond twice, every triangle three times and every tetrahedron four times. The sums are exact
-// rewritings of per-set terms (MODEL.md section 2), so here each unordered set is enumerated
+// rewritings of per-set terms (THEORY.md section 2), so here each unordered set is enumerated
 // once, from its smallest-index vertex i, and its geometry gives every vertex c its share:
 //   bond {i,j}:        c1 (1/L - 1/l) dx^ic dV1^c              (if the bond is intact)
 //   triangle {i,j,k}:  -2 C2 dV2^c (|a|/A - 1) d|a|/dx^c         (if c's two bonds are intact)
 //   tetrahedron:       -6 C3 dV3^c (v/|V| - sign v) dv/dx^c      (if c's three bonds are intact)
 // or, under DamageRule::all_edges, if all three (six) edges of the set are intact.
 // A set is left out for vertex c exactly when the reference leaves it out of c's family: the
-// degeneracy test is made from c's own perspective (MODEL.md section 1), with a screen that
+// degeneracy test is made from c's own perspective (THEORY.md section 1), with a screen that
 // decides without the extra arithmetic whenever the answer cannot differ between vertices.
 //
 // The result equals compute_internal_force to round-off and is deterministic for a given

@@ -1,5 +1,5 @@
 #pragma once
-// The short-range contact law of MODEL.md section 5 between two points closer than l_c:
+// The short-range contact law of THEORY.md section 5 between two points closer than l_c:
 //
 //   F^i = c (l_c - r) (x^i - x^j)/r V^i V^j,   c = 9 Ccon / (pi delta^5),  r = |x^i - x^j|
 //
@@ -10,7 +10,7 @@
 // since -dU/dx^i = c V^i V^j (l_c - r) dr/dx^i and dr/dx^i = (x^i - x^j)/r. U and its gradient
 // vanish at r = l_c, so the force switches on without a jump. In 2D the V are areas.
 //
-// Which delta: MODEL.md uses the horizon of the body that receives the force, so each side of a
+// Which delta: THEORY.md uses the horizon of the body that receives the force, so each side of a
 // pair has its own c. When the two horizons differ the two forces differ: the pair then pushes
 // on its own centre of mass with (c_i - c_j)(l_c - r) V^i V^j (momentum is not conserved) and
 // the forces are not conservative. The contact energy reported is then U with the mean

@@ -1,5 +1,5 @@
 #pragma once
-// Contact between any number of bodies (MODEL.md section 5), in two phases.
+// Contact between any number of bodies (THEORY.md section 5), in two phases.
 //
 // Broad phase: each body's box of current points, inflated by half of (l_c + skin) of its
 // widest contact law, goes into an FCL tree that yields the pairs of overlapping boxes. For each

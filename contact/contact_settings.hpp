@@ -24,7 +24,7 @@ struct ContactBody {
   const MeshWall* wall = nullptr;
 };
 
-// The default l_c over the larger lattice spacing of the two bodies. MODEL.md suggests about
+// The default l_c over the larger lattice spacing of the two bodies. THEORY.md suggests about
 // 1/2, but a point then slips between the four points of a lattice face (dx/sqrt(2) from the
 // face centre) and, in a cubic lattice, down the column of such holes without ever coming
 // within l_c of the body: a ball dropped on a plate whose lattice is offset by half a cell

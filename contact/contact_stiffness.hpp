@@ -1,5 +1,5 @@
 #pragma once
-// The contact part of the stable-step estimate (MODEL.md section 6).
+// The contact part of the stable-step estimate (THEORY.md section 6).
 //
 // Linearised, one contact pair of points couples them with the 3 x 3 block
 // c V^i V^j [e e^T + (l_c - r)/r (I - e e^T)], whose norm is c V^i V^j while r >= l_c / 2 (a

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the point cloud of the curved bar (seed 000 section 5, MODEL.md section 8) as CSV.
+"""Writes the point cloud of the curved bar (seed 000 section 5, docs/THEORY.md section 8) as CSV.
 
 The bar follows f(x) = cos(pi x / 2) for root points x in [-L/2, L/2], L = 1 m. Root points are
 spaced evenly in arc length, about dx apart (the first and last lie on the ends x = -L/2 and
@@ -10,7 +10,7 @@ In 3D, N_n such layers are stacked along z at z = (k + 1/2) dx - W/2, i.e. insid
 Normals: seed 000 eq. 5.1 writes the normal line through a root point with slope 1/f'(x_i); the
 line perpendicular to the curve has slope -1/f'(x_i), and the pulse directions n_l, n_r of
 eqs. 5.4-5.5 (the end tangents) are only perpendicular to the end layers with the latter. We
-use the perpendicular normal (MODEL.md: "points along normals").
+use the perpendicular normal (docs/THEORY.md: "points along normals").
 
 Volumes come from the local spacing: a point at offset t from the curve, whose curvature is
 kappa, has along-curve spacing ds (1 + kappa t) (the normal points away from the centre of

@@ -3,8 +3,8 @@
 
 How close an uncracked body came to cracking: bonds are rebuilt from the first frame's positions
 (the reference configuration: frame 0 is written at t = 0) with the body's horizon; the stretch is
-s = |x_j - x_i| / |X_j - X_i| - 1 (MODEL.md section 4). With --seed-measure it also prints
-|(x_j - x_i) - (X_j - X_i)| / |X_j - X_i| (seed 000 eq. 3.2, which MODEL.md rejects because it
+s = |x_j - x_i| / |X_j - X_i| - 1 (docs/THEORY.md section 4). With --seed-measure it also prints
+|(x_j - x_i) - (X_j - X_i)| / |X_j - X_i| (seed 000 eq. 3.2, which docs/THEORY.md rejects because it
 counts rotation as stretch), to tell whether that measure would have cracked the body.
 
     scripts/max_stretch.py runs/curved_bar_2d --horizon 0.00942 --critical 2.6412e-5

@@ -4,11 +4,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# python3-h5py and python3-matplotlib: scripts/render_damage.py and scripts/max_stretch.py.
-# pybind11-dev, python3-dev, python3-numpy, python3-pytest, python3-yaml: the Python module
-# (python/) and its tests.
+# python3-h5py and python3-matplotlib: scripts/render_damage.py and scripts/max_stretch.py;
+# libxml2-dev: the XDMF test parses the index as XML; pybind11-dev, python3-dev, python3-numpy,
+# python3-pytest, python3-yaml: the Python module (python/) and its tests.
 packages=(cmake g++ make libeigen3-dev libyaml-cpp-dev libcli11-dev catch2 nlohmann-json3-dev
-          libfcl-dev libassimp-dev libhdf5-dev python3 python3-h5py python3-matplotlib
+          libfcl-dev libassimp-dev libhdf5-dev libxml2-dev python3 python3-h5py python3-matplotlib
           pybind11-dev python3-dev python3-numpy python3-pytest python3-yaml)
 missing=()
 for p in "${packages[@]}"; do

@@ -1,5 +1,5 @@
 #pragma once
-// A plain reference for the CKPD internal force of one point, written straight from MODEL.md
+// A plain reference for the CKPD internal force of one point, written straight from THEORY.md
 // section 2 and independently of bodies/internal_force.cpp: ORDERED sums over j in H1,
 // ordered pairs (j, k) and ordered triples (j, k, l), with the seed's per-order terms
 //   b1 += d1 C1 (1/L - 1/l) dx^ij                                 dV1

@@ -1,4 +1,4 @@
-// One-neighbour families H1 (MODEL.md section 1) against a brute-force search.
+// One-neighbour families H1 (THEORY.md section 1) against a brute-force search.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>

@@ -51,7 +51,7 @@ bool intact(const Body& b, std::size_t i, std::size_t j) {
   return false;
 }
 
-// Force densities and energy of MODEL.md section 5 from every pair of points.
+// Force densities and energy of THEORY.md section 5 from every pair of points.
 struct Reference {
   std::vector<std::vector<Vec3>> force;
   double energy = 0;

@@ -1,4 +1,4 @@
-// Bond failure, point damage, d2/d3, no-failure zones and pre-cracks (MODEL.md section 4).
+// Bond failure, point damage, d2/d3, no-failure zones and pre-cracks (THEORY.md section 4).
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <catch2/catch.hpp>

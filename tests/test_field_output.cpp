@@ -177,7 +177,7 @@ TEST_CASE("field frames read back with every field, and the XDMF matches them", 
     CHECK(strain == Approx(strain_by_step.at(step)).epsilon(1e-9));
     H5Fclose(h5);
   }
-  CHECK(check_xdmf_against_hdf5(out) == 5 * 2 * 7);
+  CHECK(check_xdmf_against_hdf5(out) == 5 * 2 * 8);  // 7 fields and the connectivity
   // Well-formed XML, and the body names survive escaping.
   const CommandResult xml =
       CommandResult{std::system(("python3 -c \"import xml.etree.ElementTree as E; E.parse('" +
@@ -212,15 +212,16 @@ TEST_CASE("a run killed mid-way leaves every complete frame readable", "[output]
   REQUIRE(std::filesystem::exists(out / "fields.xdmf"));
   CHECK_FALSE(std::filesystem::exists(out / "summary.json"));  // never passes for complete
   const int items = check_xdmf_against_hdf5(out);
-  CHECK(items >= 2 * 7);
-  CHECK(items % 14 == 0);
+  // Per frame and body: the 7 fields and the Polyvertex connectivity.
+  CHECK(items >= 2 * 8);
+  CHECK(items % 16 == 0);
   // A frame is renamed into place, then listed in the XDMF: a kill between the two leaves one
   // complete frame that the XDMF does not list yet, never more (a frame still being written
   // has the .partial extension).
   std::size_t frame_files = 0;
   for (const auto& e : std::filesystem::directory_iterator(out / "fields"))
     frame_files += e.path().extension() == ".h5";
-  const auto listed = static_cast<std::size_t>(items / 14);
+  const auto listed = static_cast<std::size_t>(items / 16);
   CHECK(frame_files >= listed);
   CHECK(frame_files <= listed + 1);
 }

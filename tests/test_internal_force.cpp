@@ -1,4 +1,4 @@
-// CKPD internal force (MODEL.md section 2): the symmetric unordered kernel against the ordered
+// CKPD internal force (THEORY.md section 2): the symmetric unordered kernel against the ordered
 // reference, forces as energy gradients, rigid-motion invariance, and skipped zero families.
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -1,4 +1,4 @@
-// Elastic and fracture constants (MODEL.md sections 3 and 4).
+// Elastic and fracture constants (THEORY.md sections 3 and 4).
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>

@@ -1,5 +1,5 @@
-// The patch test (MODEL.md section 2): the reference numbers of MODEL.md, and other horizons and
-// Poisson ratios against an independent computation on the infinite lattice written here.
+// The patch test (THEORY.md section 2): the reference numbers of THEORY.md, and other horizons
+// and Poisson ratios against an independent computation on the infinite lattice written here.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
@@ -21,7 +21,7 @@ struct Expected {
   double volumetric = 0, shear = 0, uniaxial = 0;
 };
 
-// Everything from MODEL.md directly: lattice offsets of the infinite unit lattice within m,
+// Everything from THEORY.md directly: lattice offsets of the infinite unit lattice within m,
 // ordered non-degenerate pairs and triples, psi1..psi3 for x = (I + e) X summed with
 // dVn = VH^n / Nn (beta = 1), the constants of section 3 and the continuum energy.
 class InfiniteLatticePatch {
@@ -102,7 +102,7 @@ class InfiniteLatticePatch {
     return (w1 / 2 + w2 / 3 + w3 / 4) / continuum;
   }
 
-  // Replaces the MODEL.md constants (for the calibration tests).
+  // Replaces the THEORY.md constants (for the calibration tests).
   void set_constants(double c1, double c2, double c3) {
     c1_ = c1;
     c2_ = c2;

@@ -1,4 +1,4 @@
-// The stable time-step estimate (MODEL.md section 6) against the true critical step of the
+// The stable time-step estimate (THEORY.md section 6) against the true critical step of the
 // linearised system rho u'' = -K u, K from a finite-difference Jacobian of the internal force.
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>

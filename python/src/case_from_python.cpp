@@ -78,8 +78,8 @@ std::vector<std::string> override_strings(const py::handle& overrides) {
 ResolvedCase resolve_case(const py::handle& source, const py::handle& overrides) {
   const std::vector<std::string> sets = override_strings(overrides);
   if (py::isinstance<py::dict>(source)) {
-    ResolvedCase c{to_yaml(source, ""), "case dict"};
-    apply_overrides(c.root, sets, c.name);
+    ResolvedCase c{to_yaml(source, ""), "case dict", {}};
+    apply_overrides(c.root, sets, c.name, &c.applied);
     return c;
   }
   const py::module_ os = py::module_::import("os");
@@ -87,7 +87,9 @@ ResolvedCase resolve_case(const py::handle& source, const py::handle& overrides)
     throw CaseError("case: expected a case file (str or path) or a dict, got " +
                     py::repr(py::type::of(source)).cast<std::string>());
   const std::string file = os.attr("fspath")(source).cast<std::string>();
-  return {load_case_yaml(file, sets), file};
+  ResolvedCase c{YAML::Node(), file, {}};
+  c.root = load_case_yaml(file, sets, &c.applied);
+  return c;
 }
 
 }  // namespace ckpd::python

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "src/input/case_node.hpp"
+
 namespace ckpd::python {
 
 // What a case was given as, resolved: the YAML tree with the overrides applied, and the name
@@ -16,6 +18,7 @@ namespace ckpd::python {
 struct ResolvedCase {
   YAML::Node root;
   std::string name;
+  std::vector<CaseNode::Override> applied;  // the overrides, for errors that name them
 };
 
 // `source`: str or os.PathLike (a case file) or dict. Throws CaseError.

@@ -29,7 +29,7 @@ PYBIND11_MODULE(_ckpd, m) {
       [](const py::handle& source, const py::handle& overrides) {
         const ckpd::python::ResolvedCase c = ckpd::python::resolve_case(source, overrides);
         py::gil_scoped_release release;
-        ckpd::load_scene(c.root, c.name);
+        ckpd::load_scene(c.root, c.name, c.applied);
       },
       py::arg("case"), py::arg("overrides") = py::none(),
       "Loads the case (bodies sampled, conditions placed) and raises CaseError if it is bad");

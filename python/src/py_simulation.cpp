@@ -109,7 +109,7 @@ PySimulation::PySimulation(const py::handle& case_source, const py::handle& over
   {
     py::gil_scoped_release release;
     apply_threads();
-    scene_ = std::make_unique<Scene>(load_scene(resolved.root, resolved.name));
+    scene_ = std::make_unique<Scene>(load_scene(resolved.root, resolved.name, resolved.applied));
     sim_ = std::make_unique<Simulation>(*scene_);
     if (!restart.empty()) read_checkpoint(restart, *sim_);
   }

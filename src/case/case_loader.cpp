@@ -7,14 +7,17 @@
 #include <sstream>
 
 #include "bodies/material.hpp"
+#include "bodies/patch_test.hpp"
+#include "src/case/contact_loader.hpp"
+#include "src/case/material_model.hpp"
+#include "src/case/rigid_body_loader.hpp"
 #include "src/geometry/lattice.hpp"
 #include "src/geometry/mesh/mesh_shape.hpp"
 #include "src/geometry/point_cloud.hpp"
 #include "src/geometry/shape.hpp"
+#include "src/input/nearest_name.hpp"
 #include "src/output/field_writer.hpp"
-#include "src/case/contact_loader.hpp"
-#include "src/case/material_model.hpp"
-#include "src/case/rigid_body_loader.hpp"
+#include "src/output/history_quantities.hpp"
 
 namespace ckpd {
 
@@ -149,8 +152,8 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
   }
   // lattice_stencil: false keeps the general kernel path on a lattice body (comparisons).
   if (auto f = n.optional("lattice_stencil")) def.lattice_stencil = f->as_bool();
-  // constants: analytic (MODEL.md section 3, default) or calibrated to the lattice's patch test
-  // (bodies/patch_test.hpp: exact bulk and uniaxial-strain moduli for this spacing and m).
+  // constants: analytic (THEORY.md section 3, default) or calibrated to the lattice's patch
+  // test (bodies/patch_test.hpp: exact bulk and uniaxial-strain moduli for this spacing and m).
   bool calibrated = false;
   std::optional<CaseNode> constants_node = n.optional("constants");
   if (constants_node) {
@@ -281,16 +284,76 @@ std::string physics_fingerprint(const YAML::Node& root) {
   return hex.str();
 }
 
+// One entry of output.history: {quantity: NAME, body: B} (or bodies: [A, B] for the contact
+// quantities), reaction_force with a region of its body; `name` sets the column prefix.
+HistoryQuantity read_history_quantity(const CaseNode& e, const Scene& scene) {
+  HistoryQuantity q;
+  const CaseNode quantity = e.required("quantity");
+  q.quantity = quantity.as_string();
+  const HistoryQuantityKind* kind = find_history_quantity(q.quantity);
+  if (!kind)
+    quantity.fail("a history quantity" +
+                  did_you_mean(q.quantity, row_names(history_quantity_table())) +
+                  " (known: " + known_history_quantities() + ")");
+  auto body_index = [&](const CaseNode& n) {
+    const std::string name = n.as_string();
+    std::vector<std::string> names;
+    for (std::size_t k = 0; k < scene.bodies.size(); ++k) {
+      if (scene.bodies[k].body.name == name) return k;
+      names.push_back(scene.bodies[k].body.name);
+    }
+    n.fail("a body's name" + did_you_mean(name, names) + " (bodies: " + join_names(names) + ")");
+  };
+  std::string label = q.quantity;
+  if (kind->bodies == 1) {
+    q.bodies.push_back(body_index(e.required("body")));
+  } else {
+    const CaseNode list = e.required("bodies");
+    const std::vector<CaseNode> names = list.elements();
+    if (names.size() != 2) list.fail("two body names, [first, second]");
+    for (const CaseNode& n : names) q.bodies.push_back(body_index(n));
+  }
+  for (std::size_t k : q.bodies) label += "_" + scene.bodies[k].body.name;
+  if (kind->region) {
+    const SceneBody& sb = scene.bodies[q.bodies[0]];
+    q.points = select_points(e.required("region"), ConditionTarget{sb.body, sb.spacing});
+  }
+  if (auto n = e.optional("name")) label = n->as_string();
+  q.label = label;
+  if (const std::string problem = history_quantity_problem(scene, q); !problem.empty())
+    e.fail(q.quantity + " of " + problem);
+  e.finish();
+  return q;
+}
+
+// `--set time.steps=N` on a case with `time.end` (or `--set time.end=T` on one with
+// `time.steps`) replaces the other: the two are alternatives, and the override is the choice
+// (the last such override, when there are several).
+void drop_replaced_time_key(YAML::Node& root, const std::vector<CaseNode::Override>& applied) {
+  const char* other = nullptr;
+  for (const CaseNode::Override& o : applied) {
+    const std::string key = o.text.substr(0, o.text.find('='));
+    if (key == "time.steps") other = "end";
+    if (key == "time.end") other = "steps";
+  }
+  if (other && root["time"].IsMap() && root["time"][other]) root["time"].remove(other);
+}
+
 }  // namespace
 
 Scene load_scene(const std::string& case_file, const std::vector<std::string>& overrides) {
-  return load_scene(load_case_yaml(case_file, overrides), case_file);
+  std::vector<CaseNode::Override> applied;
+  YAML::Node resolved = load_case_yaml(case_file, overrides, &applied);
+  return load_scene(resolved, case_file, std::move(applied));
 }
 
-Scene load_scene(const YAML::Node& resolved, const std::string& case_file) {
+Scene load_scene(YAML::Node resolved, const std::string& case_file,
+                 std::vector<CaseNode::Override> applied) {
   if (!resolved.IsMap())
     throw CaseError(case_file + ": a case is a map of sections (materials, bodies, ...)");
-  const CaseNode root(resolved, case_file);
+  drop_replaced_time_key(resolved, applied);
+  CaseNode root(resolved, case_file);
+  root.set_overrides(std::move(applied));
   Scene scene;
   scene.case_file = case_file;
   scene.fingerprint = physics_fingerprint(resolved);
@@ -316,6 +379,9 @@ Scene load_scene(const YAML::Node& resolved, const std::string& case_file) {
       scene.output.checkpoint_interval = c->as_integer();
       if (scene.output.checkpoint_interval <= 0) c->fail("a positive number of steps");
     }
+    if (auto h = o->optional("history"))
+      for (const CaseNode& e : h->elements())
+        scene.output.history.push_back(read_history_quantity(e, scene));
     const auto steps = o->optional("field_interval");
     const auto seconds = o->optional("field_time_interval");
     if (steps && seconds) o->fail("either field_interval (steps) or field_time_interval (s)");
@@ -328,12 +394,7 @@ Scene load_scene(const YAML::Node& resolved, const std::string& case_file) {
       if (!steps && !seconds) f->fail("fields together with field_interval or field_time_interval");
       for (const CaseNode& name : f->elements()) {
         const std::string field = name.as_string();
-        const auto& known = known_field_names();
-        if (std::find(known.begin(), known.end(), field) == known.end()) {
-          std::string list;
-          for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-          name.fail("a field name (" + list + ")");
-        }
+        if (!find_field(field)) name.fail("a field name (" + known_field_list() + ")");
         scene.output.fields.push_back(field);
       }
     } else if (steps || seconds) {

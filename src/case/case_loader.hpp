@@ -14,6 +14,7 @@ Scene load_scene(const std::string& case_file, const std::vector<std::string>& o
 // A case already in memory (overrides applied), e.g. built from a Python dict: `case_file` names
 // it in the errors and the summary; relative mesh paths are resolved against its directory
 // (the working directory for a name without one, such as "case dict").
-Scene load_scene(const YAML::Node& resolved, const std::string& case_file);
+Scene load_scene(YAML::Node resolved, const std::string& case_file,
+                 std::vector<CaseNode::Override> applied = {});
 
 }  // namespace ckpd

@@ -1,5 +1,5 @@
 #pragma once
-// Reads the `contact` section of a case file (MODEL.md section 5):
+// Reads the `contact` section of a case file (THEORY.md section 5):
 //
 //   contact:
 //     stiffness: 1.0e12      # Ccon, Pa; without it only the listed pairs interact

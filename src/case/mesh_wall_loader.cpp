@@ -39,6 +39,7 @@ SceneBody read_mesh_wall(const CaseNode& n, const CaseNode& w, const std::string
     throw CaseError(n.where() + ": " + e.what());
   }
   sb.wall = std::make_shared<const MeshWall>(mesh.vertex, mesh.triangle, carriers);
+  sb.wall_surface = loaded.mesh;
   sb.mesh = loaded.info;
   sb.mesh->wall = true;
   return sb;

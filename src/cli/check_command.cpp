@@ -9,11 +9,12 @@
 #include <memory>
 #include <sstream>
 
+#include "src/case/case_loader.hpp"
+#include "src/cli/cli_options.hpp"
 #include "src/engine/contact_coupling.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/output/kernel_report.hpp"
 #include "src/output/run_output.hpp"
-#include "src/case/case_loader.hpp"
 
 namespace ckpd {
 
@@ -135,8 +136,7 @@ void add_check_command(CLI::App& app) {
   cmd->add_option("--set", opt->overrides, "override a case value: key.path=value (repeatable)");
   cmd->add_option("--steps", opt->steps, "steps to time for the projection (default 3)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--threads", opt->threads, "OpenMP threads (default: all cores)")
-      ->check(CLI::PositiveNumber);
+  add_threads_option(*cmd, opt->threads);
   cmd->callback([opt]() { check(*opt); });
 }
 

@@ -9,8 +9,10 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <sstream>
 
 #include "src/case/case_loader.hpp"
+#include "src/cli/cli_options.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/output/beta_report.hpp"
 #include "src/output/checkpoint.hpp"
@@ -36,9 +38,25 @@ extern "C" void request_stop(int) {
   stop_requested = 1;
 }
 
+// A rigid body has no interactions: its line says what it is instead of zero constants.
+void print_rigid_setup(const SceneBody& sb, std::ostream& os) {
+  const Body& b = sb.body;
+  os << "body '" << b.name << "': rigid, " << (sb.rigid->prescribed() ? "prescribed" : "free")
+     << " motion, mass " << sb.rigid->mass() << " kg, ";
+  if (sb.wall && sb.mesh)
+    os << "mesh wall of " << sb.mesh->triangles << " triangles (" << b.size()
+       << " carrier points)\n";
+  else
+    os << b.dimension << "D, " << b.size() << " points, dx " << sb.spacing << " m\n";
+}
+
 void print_setup(const Simulation& sim, std::ostream& os) {
   for (const SceneBody& sb : sim.scene().bodies) {
     const Body& b = sb.body;
+    if (sb.rigid) {
+      print_rigid_setup(sb, os);
+      continue;
+    }
     os << "body '" << b.name << "': " << b.dimension << "D, " << b.size() << " points, "
        << b.bond_count() << " bonds, N2 " << b.total_two_neighbour() << ", N3 "
        << b.total_three_neighbour() << ", dx " << sb.spacing << " m, horizon " << b.horizon
@@ -51,8 +69,20 @@ void print_setup(const Simulation& sim, std::ostream& os) {
   const StepChoice& s = sim.step_choice();
   os << "time step: estimate " << s.estimate << " s (body '" << s.limiting_body << "', point "
      << s.limiting_point << "), " << (s.user_dt ? "case dt " : "safety ") << s.safety
-     << " x estimate -> dt " << s.dt << " s, " << sim.planned_steps() << " steps\n";
+     << " x estimate -> dt " << s.dt << " s, " << sim.planned_steps() << " steps";
+  if (const double last = sim.step_size(sim.planned_steps()); last != s.dt)
+    os << " (the last one " << last << " s: the run ends exactly at time.end)";
+  os << '\n';
   if (std::isfinite(s.speed_step)) os << "  " << contact_speed_note(s) << '\n';
+}
+
+// What summary.json records of how the run was made: the command line, the overrides, the
+// program's version and build.
+nlohmann::ordered_json provenance(const RunOptions& opt) {
+  return {{"command_line", command_line()},
+          {"overrides", opt.overrides},
+          {"working_directory", std::filesystem::current_path().string()},
+          {"build", build_json()}};
 }
 
 int run(const RunOptions& opt) {
@@ -63,7 +93,9 @@ int run(const RunOptions& opt) {
   if (!opt.restart.empty()) read_checkpoint(opt.restart, sim);
   const double setup_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!opt.quiet) print_setup(sim, std::cout);
+  std::ostringstream setup;
+  print_setup(sim, setup);
+  if (!opt.quiet) std::cout << setup.str();
 
   std::string out = opt.out_dir;
   if (out.empty()) out = "runs/" + std::filesystem::path(opt.case_file).stem().string();
@@ -73,6 +105,12 @@ int run(const RunOptions& opt) {
   driver_options.progress = !opt.quiet;
   driver_options.start = start;
   driver_options.setup_seconds = setup_seconds;
+  driver_options.log_header.push_back(version_line());
+  driver_options.log_header.push_back("command: " + command_line());
+  for (const std::string& o : opt.overrides)
+    driver_options.log_header.push_back("override: --set " + o);
+  driver_options.log_header.push_back(setup.str());
+  driver_options.provenance = provenance(opt);
   RunDriver driver(sim, driver_options);
   stop_requested = 0;
   std::signal(SIGINT, request_stop);
@@ -101,9 +139,9 @@ int run(const RunOptions& opt) {
   }
   driver.stop("completed", "");
   if (!opt.quiet) {
-    std::cout << "completed " << sim.step() << " steps in " << driver.seconds() << " s; peak RSS "
-              << peak_rss_mb() << " MB; max damage " << sim.max_damage() << "; results in " << out
-              << '\n';
+    std::cout << "completed " << sim.step() << " steps to t = " << sim.time() << " s in "
+              << driver.seconds() << " s; peak RSS " << peak_rss_mb() << " MB; max damage "
+              << sim.max_damage() << "; results in " << out << '\n';
   }
   return 0;
 }
@@ -116,8 +154,7 @@ void add_run_command(CLI::App& app, int& exit_status) {
   cmd->add_option("case", opt->case_file, "case file (YAML)")->required();
   cmd->add_option("--out", opt->out_dir, "output directory (default: runs/<case name>)");
   cmd->add_option("--set", opt->overrides, "override a case value: key.path=value (repeatable)");
-  cmd->add_option("--threads", opt->threads, "OpenMP threads (default: all cores)")
-      ->check(CLI::PositiveNumber);
+  add_threads_option(*cmd, opt->threads);
   cmd->add_option("--restart", opt->restart,
                   "continue from a checkpoint of this case (DIR/checkpoint.h5, written every "
                   "output.checkpoint_interval steps and on SIGINT/SIGTERM)");

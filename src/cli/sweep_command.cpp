@@ -6,6 +6,7 @@
 #include <iostream>
 #include <memory>
 
+#include "src/cli/cli_options.hpp"
 #include "src/sweep/runner.hpp"
 #include "src/sweep/sweep_file.hpp"
 #include "src/sweep/sweep_table.hpp"
@@ -69,10 +70,9 @@ void add_sweep_command(CLI::App& app, int& exit_status) {
   cmd->add_option("--out", opt->out, "output directory (default: runs/<sweep name>)");
   cmd->add_option("--jobs", opt->jobs,
                   "runs at a time (default: hardware threads / threads per run)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--threads-per-run", opt->threads,
-                  "OpenMP threads of each run (default: hardware threads / jobs)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, kMaxThreads));
+  add_threads_option(*cmd, opt->threads, "--threads-per-run",
+                     "OpenMP threads of each run (default: hardware threads / jobs)");
   cmd->add_option("--shard", opt->shard,
                   "run only part I of N (1 <= I <= N; runs with index % N == I - 1), e.g. "
                   "${SLURM_ARRAY_TASK_ID}/16");

@@ -1,5 +1,5 @@
 #pragma once
-// Initial and boundary conditions and loads (MODEL.md section 7). Each is one small class,
+// Initial and boundary conditions and loads (THEORY.md section 7). Each is one small class,
 // registered by its `type` name in its own file (like a LAMMPS fix); the case loader builds them
 // generically and the time integrator calls them through this interface, once per condition and
 // step, never per point through a virtual call.

@@ -1,6 +1,7 @@
 #pragma once
 // What a run needs, assembled from a case file: the bodies with their conditions, contact, the
 // time and output settings.
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -13,6 +14,7 @@
 #include "src/engine/condition.hpp"
 #include "src/engine/rigid_body.hpp"
 #include "src/geometry/mesh/mesh_info.hpp"
+#include "src/geometry/mesh/triangle_mesh.hpp"
 
 namespace ckpd {
 
@@ -23,6 +25,8 @@ struct SceneBody {
   std::optional<RigidMotion> rigid;  // set: a rigid body (no bonds; body holds its points)
   // A mesh wall: a rigid body given by its surface; `body` holds its six carrier points.
   std::shared_ptr<const MeshWall> wall;
+  // The wall's triangles in the reference frame, for field output (the wall moves them rigidly).
+  std::shared_ptr<const TriangleMesh> wall_surface;
   std::optional<MeshInfo> mesh;  // bodies from a mesh (sampled or walls), for `ckpd check`
 };
 
@@ -34,8 +38,18 @@ struct TimeSettings {
   bool allow_unstable_dt = false;  // accept a dt above the estimate
 };
 
+// A history column group chosen in the case (`output: {history: [...]}`), computed by
+// src/output/history_quantities.hpp.
+struct HistoryQuantity {
+  std::string quantity;               // its name in the case: momentum, reaction_force, ...
+  std::vector<std::size_t> bodies;    // one body, or two (contact_force, contact_energy)
+  std::vector<std::uint32_t> points;  // reaction_force: the region's points of the body
+  std::string label;                  // column prefix: "momentum_ball", "reaction_force_bar_grip"
+};
+
 struct OutputSettings {
-  long long history_interval = 0;  // steps between history rows; 0: about 200 rows in the run
+  std::vector<HistoryQuantity> history;  // columns after the default ones
+  long long history_interval = 0;        // steps between history rows; 0: about 200 rows in the run
   // Field frames (HDF5 + XDMF): every `field_interval` steps or every `field_time_interval`
   // seconds of simulated time; neither set means no field output at all.
   std::vector<std::string> fields;

@@ -79,12 +79,8 @@ double initial_speed(const SceneBody& sb) {
   return v;
 }
 
-struct ContactPairRadius {
-  std::size_t a = 0, b = 0;
-  double radius = 0;
-};
+}  // namespace
 
-// The body pairs (a <= b; equal: self-contact) that have a contact law, with their l_c.
 std::vector<ContactPairRadius> contact_pair_radii(const Scene& scene) {
   std::vector<ContactPairRadius> pairs;
   if (!scene.contact.present) return pairs;
@@ -96,8 +92,6 @@ std::vector<ContactPairRadius> contact_pair_radii(const Scene& scene) {
         pairs.push_back({a, b, law->radius});
   return pairs;
 }
-
-}  // namespace
 
 StepChoice choose_time_step(const Scene& scene) {
   StepChoice c;
@@ -173,8 +167,10 @@ Simulation::Simulation(Scene& scene) : scene_(scene) {
   if (scene_.time.steps >= 0) {
     planned_steps_ = scene_.time.steps;
   } else {
-    planned_steps_ =
-        static_cast<long long>(std::ceil(scene_.time.end_time / step_choice_.dt - 1e-9));
+    // The last step is shortened so that the run ends exactly at time.end (it never goes past).
+    planned_steps_ = std::max<long long>(
+        1, static_cast<long long>(std::ceil(scene_.time.end_time / step_choice_.dt - 1e-9)));
+    last_dt_ = scene_.time.end_time - static_cast<double>(planned_steps_ - 1) * step_choice_.dt;
   }
   double max_speed = 0;
   for (SceneBody& sb : scene_.bodies) {
@@ -223,7 +219,7 @@ void Simulation::evaluate_forces(bool with_energy) {
     }
     // velocity holds the drift velocity of the step (kick-drift-kick): the lost energy is
     // booked at the step's midpoint, where the integrator's force switch effectively happens.
-    dissipated[index] = fail_overstretched_bonds(b, 0.5 * step_choice_.dt).dissipated;
+    dissipated[index] = fail_overstretched_bonds(b, 0.5 * step_size(step_)).dissipated;
     // Each bond, triangle and tetrahedron once (the per-point reference kernel in reference/ is
     // what it is tested against).
     const SymmetricKernelStats stats = compute_internal_force_symmetric(b, with_energy);
@@ -276,8 +272,12 @@ void Simulation::evaluate_forces(bool with_energy) {
   }
 }
 
+double Simulation::step_size(long long index) const {
+  return index == planned_steps_ && last_dt_ > 0 ? last_dt_ : step_choice_.dt;
+}
+
 void Simulation::advance(bool with_energy) {
-  const double dt = step_choice_.dt;
+  const double dt = step_size(step_ + 1);
   // Kick to t + dt/2, prescribed velocities at the midpoint (exact for a linear ramp), drift.
   for (SceneBody& sb : scene_.bodies) {
     Body& b = sb.body;
@@ -294,7 +294,9 @@ void Simulation::advance(bool with_energy) {
 #pragma omp parallel for schedule(static) if (n > kParallelPoints)
     for (std::size_t i = 0; i < n; ++i) b.displacement[i] += dt * b.velocity[i];
   }
-  time_ = static_cast<double>(step_ + 1) * dt;
+  time_ = step_ + 1 == planned_steps_ && last_dt_ > 0
+              ? scene_.time.end_time
+              : origin_time_ + static_cast<double>(step_ + 1 - origin_step_) * step_choice_.dt;
   ++step_;
   evaluate_forces(with_energy);
   for (std::size_t index = 0; index < scene_.bodies.size(); ++index) {
@@ -411,6 +413,18 @@ Simulation::Counters Simulation::counters() const {
 void Simulation::restore(const Counters& c) {
   time_ = c.time;
   step_ = c.step;
+  // Steps after a restart count from the checkpoint when its time ended a shortened last step
+  // (a later time.end); otherwise from 0 as in the run it continues (bit for bit).
+  const bool on_grid = c.time == static_cast<double>(c.step) * step_choice_.dt;
+  origin_time_ = on_grid ? 0.0 : c.time;
+  origin_step_ = on_grid ? 0 : c.step;
+  if (scene_.time.steps < 0) {
+    const double left = scene_.time.end_time - c.time;
+    const auto more =
+        std::max<long long>(0, static_cast<long long>(std::ceil(left / step_choice_.dt - 1e-9)));
+    planned_steps_ = c.step + more;
+    last_dt_ = more > 0 ? left - static_cast<double>(more - 1) * step_choice_.dt : 0;
+  }
   external_work_ = c.external_work;
   dissipated_ = c.dissipated;
   strain_energy_ = c.strain_energy;

@@ -1,6 +1,6 @@
 #pragma once
-// Velocity-Verlet time integration of all bodies (MODEL.md section 6), the stable-step choice,
-// energy bookkeeping and the instability guard.
+// Velocity-Verlet time integration of all bodies (THEORY.md section 6), the stable-step
+// choice, energy bookkeeping and the instability guard.
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -60,6 +60,13 @@ class TunnellingError : public InstabilityError {
 // above it is refused unless allow_unstable_dt. Throws std::invalid_argument when refused.
 StepChoice choose_time_step(const Scene& scene);
 
+struct ContactPairRadius {
+  std::size_t a = 0, b = 0;
+  double radius = 0;
+};
+// The body pairs (a <= b; equal: self-contact) that have a contact law, with their l_c.
+std::vector<ContactPairRadius> contact_pair_radii(const Scene& scene);
+
 // One line on the contact speed bound for the set-up reports (call when it is finite).
 std::string contact_speed_note(const StepChoice& choice);
 
@@ -97,6 +104,9 @@ class Simulation {
   long long step() const { return step_; }
   const StepChoice& step_choice() const { return step_choice_; }
   long long planned_steps() const { return planned_steps_; }
+  // The size of step `index` (1-based): dt, except a run to time.end whose last step is the
+  // remainder (0 < it <= dt), so that the run ends exactly at time.end.
+  double step_size(long long index) const;
   // Energies as of the last evaluation with energy (kinetic and work are always current).
   Energies energies() const;
   // Bonds broken during the run (pre-cracks not counted), in all bodies / in body b.
@@ -135,6 +145,9 @@ class Simulation {
   Scene& scene_;
   StepChoice step_choice_;
   long long planned_steps_ = 0;
+  double last_dt_ = 0;      // the last step's size in a run to time.end; 0 for a run of N steps
+  double origin_time_ = 0;  // time_ = origin_time_ + (step_ - origin_step_) dt
+  long long origin_step_ = 0;
   double time_ = 0;
   long long step_ = 0;
   double external_work_ = 0;

@@ -1,6 +1,6 @@
 #pragma once
 // A body given as points rather than a shape: positions and volumes read from a CSV file, for
-// geometries that no primitive covers (the curved bar of MODEL.md section 8).
+// geometries that no primitive covers (the curved bar of THEORY.md section 8).
 //
 // Format: text, one point per line, comma-separated. Lines that are blank or start with '#' are
 // skipped. The first other line is the header and names the columns: `x,y,volume` (2D bodies

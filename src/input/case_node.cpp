@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <sstream>
 
+#include "src/input/nearest_name.hpp"
+
 namespace ckpd {
 
 namespace {
@@ -27,7 +29,49 @@ CaseNode::CaseNode(YAML::Node node, std::string file, std::string path)
       path_(std::move(path)),
       used_(std::make_shared<std::set<std::string>>()) {}
 
+void CaseNode::set_overrides(std::vector<Override> overrides) {
+  overrides_ = std::make_shared<const std::vector<Override>>(std::move(overrides));
+  for (const Override& o : *overrides_)
+    if (o.value.is(node_)) override_ = o.text;
+}
+
+CaseNode CaseNode::child(YAML::Node node, std::string path) const {
+  CaseNode c(std::move(node), file_, std::move(path));
+  c.overrides_ = overrides_;
+  c.override_ = override_;
+  if (overrides_ && c.override_.empty())
+    for (const Override& o : *overrides_)
+      if (o.value.is(c.node_)) c.override_ = o.text;
+  return c;
+}
+
+std::string CaseNode::key_where(const YAML::Node& key, const std::string& name) const {
+  const std::string path = child_path(path_, name);
+  if (overrides_)
+    for (const Override& o : *overrides_)
+      if (o.value.is(node_[name])) return "--set " + o.text + ": " + path;
+  if (!override_.empty()) return "--set " + override_ + ": " + path;
+  // A case built in memory (a Python dict) has no lines: the key path says where.
+  if (key.Mark().line < 0) return file_ + ": " + path;
+  return file_ + ":" + std::to_string(key.Mark().line + 1) + ": " + path;
+}
+
+std::string CaseNode::misspelt_key_error() const {
+  if (!node_.IsMap()) return "";
+  const std::vector<std::string> known(used_->begin(), used_->end());
+  for (const auto& kv : node_) {
+    const std::string key = kv.first.as<std::string>();
+    if (used_->count(key)) continue;
+    const std::string near = nearest_name(key, known);
+    if (!near.empty())
+      return key_where(kv.first, key) + ": unknown key '" + key + "' (did you mean '" + near +
+             "'?)";
+  }
+  return "";
+}
+
 std::string CaseNode::where() const {
+  if (!override_.empty()) return "--set " + override_ + ": " + (path_.empty() ? "" : path_);
   std::ostringstream s;
   s << file_;
   const YAML::Mark mark = node_.Mark();
@@ -37,6 +81,9 @@ std::string CaseNode::where() const {
 }
 
 void CaseNode::fail(const std::string& expected) const {
+  // "expected an end time or a number of steps" is about a map whose key is misspelt: say so.
+  if (const std::string misspelt = misspelt_key_error(); !misspelt.empty())
+    throw CaseError(misspelt);
   throw CaseError(where() + ": expected " + expected + ", got " + node_text(node_));
 }
 
@@ -49,13 +96,22 @@ std::optional<CaseNode> CaseNode::optional(const std::string& key) const {
   used_->insert(key);
   const YAML::Node child = node_[key];
   if (!child || child.IsNull()) return std::nullopt;
-  return CaseNode(child, file_, child_path(path_, key));
+  return this->child(child, child_path(path_, key));
 }
 
 CaseNode CaseNode::required(const std::string& key) const {
   if (!node_.IsMap()) fail("a map with key '" + key + "'");
   auto child = optional(key);
-  if (!child) throw CaseError(where() + ": missing required key '" + key + "'");
+  if (!child) {
+    // A misspelt key is the likely cause: name it with the key it should be.
+    for (const auto& kv : node_) {
+      const std::string name = kv.first.as<std::string>();
+      if (!used_->count(name) && nearest_name(name, {key}) == key)
+        throw CaseError(key_where(kv.first, name) + ": unknown key '" + name + "' (did you mean '" +
+                        key + "'?)");
+    }
+    throw CaseError(where() + ": missing required key '" + key + "'");
+  }
   return *child;
 }
 
@@ -63,7 +119,7 @@ std::vector<CaseNode> CaseNode::elements() const {
   if (!node_.IsSequence()) fail("a list");
   std::vector<CaseNode> out;
   for (std::size_t i = 0; i < node_.size(); ++i)
-    out.emplace_back(node_[i], file_, path_ + "[" + std::to_string(i) + "]");
+    out.push_back(child(node_[i], path_ + "[" + std::to_string(i) + "]"));
   return out;
 }
 
@@ -73,7 +129,7 @@ std::vector<std::pair<std::string, CaseNode>> CaseNode::entries() const {
   for (const auto& kv : node_) {
     const std::string key = kv.first.as<std::string>();
     used_->insert(key);
-    out.emplace_back(key, CaseNode(kv.second, file_, child_path(path_, key)));
+    out.emplace_back(key, child(kv.second, child_path(path_, key)));
   }
   return out;
 }
@@ -142,20 +198,19 @@ void CaseNode::finish() const {
     const std::string key = kv.first.as<std::string>();
     if (!used_->count(key)) {
       std::ostringstream s;
-      s << file_;
-      // A case built in memory (a Python dict) has no lines: the key path says where.
-      if (kv.first.Mark().line >= 0) s << ":" << kv.first.Mark().line + 1;
-      s << ": " << child_path(path_, key)
-        << ": unknown key '" << key << "'";
-      std::string known;
-      for (const auto& k : *used_) known += (known.empty() ? "" : ", ") + k;
-      if (!known.empty()) s << " (expected one of: " << known << ")";
+      s << key_where(kv.first, key) << ": unknown key '" << key << "'";
+      const std::vector<std::string> known(used_->begin(), used_->end());
+      if (const std::string near = nearest_name(key, known); !near.empty())
+        s << " (did you mean '" << near << "'?)";
+      else if (!known.empty())
+        s << " (expected one of: " << join_names(known) << ")";
       throw CaseError(s.str());
     }
   }
 }
 
-YAML::Node load_case_yaml(const std::string& file, const std::vector<std::string>& overrides) {
+YAML::Node load_case_yaml(const std::string& file, const std::vector<std::string>& overrides,
+                          std::vector<CaseNode::Override>* applied) {
   if (!std::filesystem::is_regular_file(file))
     throw CaseError(file + ": case file not found (or not a regular file)");
   YAML::Node root;
@@ -168,12 +223,12 @@ YAML::Node load_case_yaml(const std::string& file, const std::vector<std::string
   }
   if (!root.IsMap())
     throw CaseError(file + ": a case file is a map of sections (materials, bodies, ...)");
-  apply_overrides(root, overrides, file);
+  apply_overrides(root, overrides, file, applied);
   return root;
 }
 
 void apply_overrides(YAML::Node& root, const std::vector<std::string>& overrides,
-                     const std::string& file) {
+                     const std::string& file, std::vector<CaseNode::Override>* applied) {
   for (const std::string& item : overrides) {
     const auto eq = item.find('=');
     if (eq == std::string::npos || eq == 0)
@@ -214,6 +269,7 @@ void apply_overrides(YAML::Node& root, const std::vector<std::string>& overrides
                           "' does not exist in " + file);
         if (last) {
           node[key] = value;
+          if (applied) applied->push_back({item, node[key]});
           break;
         }
         next.reset(node[key]);
@@ -222,6 +278,7 @@ void apply_overrides(YAML::Node& root, const std::vector<std::string>& overrides
       }
       if (last) {
         next = value;
+        if (applied) applied->push_back({item, next});
         break;
       }
       node.reset(next);

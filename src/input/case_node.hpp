@@ -55,21 +55,40 @@ class CaseNode {
   const std::string& path() const { return path_; }
   const std::string& file() const { return file_; }
   const YAML::Node& yaml() const { return node_; }  // the raw node, e.g. to re-emit it
-  std::string where() const;                        // "file:line: path"
+  // "file:line: path", or "--set key.path=value: path" for a value an override put there.
+  std::string where() const;
+
+  // The values `--set` put into the tree (from load_case_yaml): errors about them, and about
+  // anything inside them, name the override instead of a line of the file.
+  struct Override {
+    std::string text;  // "key.path=value" as given
+    YAML::Node value;
+  };
+  void set_overrides(std::vector<Override> overrides);
 
  private:
+  CaseNode child(YAML::Node node, std::string path) const;
+  // An unread key of this map that looks like a misspelling of a read one: the error for it
+  // (with the nearest known key), or "".
+  std::string misspelt_key_error() const;
+  std::string key_where(const YAML::Node& key, const std::string& name) const;
+
   YAML::Node node_;
   std::string file_;
   std::string path_;
   std::shared_ptr<std::set<std::string>> used_;
+  std::shared_ptr<const std::vector<Override>> overrides_;
+  std::string override_;  // the --set text this node came from; "" when from the file
 };
 
 // Loads a case file (throws CaseError for a missing file or a YAML syntax error, with the line)
 // and applies `--set key.path=value` overrides: each path must lead through existing maps and
 // sequences (a sequence element by index or by its `name`); the last key may be new.
-YAML::Node load_case_yaml(const std::string& file, const std::vector<std::string>& overrides);
+// `applied`, when given, receives each override with the node it put into the tree.
+YAML::Node load_case_yaml(const std::string& file, const std::vector<std::string>& overrides,
+                          std::vector<CaseNode::Override>* applied = nullptr);
 // The overrides alone, on a case already in memory (`file` names it in the errors).
 void apply_overrides(YAML::Node& root, const std::vector<std::string>& overrides,
-                     const std::string& file);
+                     const std::string& file, std::vector<CaseNode::Override>* applied = nullptr);
 
 }  // namespace ckpd

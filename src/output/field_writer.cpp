@@ -8,7 +8,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "bodies/damage.hpp"
 #include "src/output/hdf5_io.hpp"
 
 namespace ckpd {
@@ -40,31 +39,86 @@ std::string xml_escape(const std::string& s) {
   return out;
 }
 
-bool is_vector_field(const std::string& name) {
-  return name == "position" || name == "displacement" || name == "velocity" ||
-         name == "force_density";
+std::size_t dataset_rows(hid_t group, const std::string& name) {
+  Handle set(H5Dopen2(group, name.c_str(), H5P_DEFAULT), H5Dclose, "open " + name);
+  Handle space(H5Dget_space(set), H5Sclose, "read a shape");
+  hsize_t dims[2] = {0, 0};
+  H5Sget_simple_extent_dims(space, dims, nullptr);
+  return static_cast<std::size_t>(dims[0]);
+}
+
+// The fields a mesh wall's surface carries (its vertices move rigidly; the rest are point
+// fields of deformable bodies).
+bool wall_field(const std::string& name) {
+  return name == "position" || name == "reference_position" || name == "displacement" ||
+         name == "body_id" || name == "point_id";
+}
+
+// A mesh wall's surface at the wall's current pose: x = centre + R (X - c0).
+void write_wall_group(hid_t group, const SceneBody& sb, std::size_t b,
+                      const std::vector<std::string>& fields) {
+  const TriangleMesh& surface = *sb.wall_surface;
+  const MeshWall::Pose pose = sb.wall->pose(sb.body);
+  const Vec3& c0 = sb.wall->carriers().centre;
+  const std::size_t n = surface.vertex.size();
+  std::vector<Vec3> x(n);
+  for (std::size_t v = 0; v < n; ++v) x[v] = pose.centre + pose.rotation * (surface.vertex[v] - c0);
+  std::vector<std::int32_t> cells;
+  cells.reserve(3 * surface.triangle.size());
+  for (const auto& t : surface.triangle)
+    for (std::uint32_t v : t) cells.push_back(static_cast<std::int32_t>(v));
+  hdf5::write_int32(group, "triangles", cells, 3);
+  for (const std::string& f : fields) {
+    if (f == "position") {
+      hdf5::write_vectors(group, f, x);
+    } else if (f == "reference_position") {
+      hdf5::write_vectors(group, f, surface.vertex);
+    } else if (f == "displacement") {
+      std::vector<Vec3> u(n);
+      for (std::size_t v = 0; v < n; ++v) u[v] = x[v] - surface.vertex[v];
+      hdf5::write_vectors(group, f, u);
+    } else if (f == "body_id") {
+      hdf5::write_int32(group, f, std::vector<std::int32_t>(n, static_cast<std::int32_t>(b)));
+    } else if (f == "point_id") {
+      std::vector<std::int32_t> id(n);
+      for (std::size_t v = 0; v < n; ++v) id[v] = static_cast<std::int32_t>(v);
+      hdf5::write_int32(group, f, id);
+    }
+  }
+}
+
+void write_point_group(hid_t group, const Simulation& sim, std::size_t b,
+                       const std::vector<std::string>& fields, std::vector<double>& buffer) {
+  const std::size_t n = sim.scene().bodies[b].body.size();
+  // The Polyvertex connectivity: point k is cell k.
+  std::vector<std::int32_t> ids(n);
+  for (std::size_t i = 0; i < n; ++i) ids[i] = static_cast<std::int32_t>(i);
+  hdf5::write_int32(group, "connectivity", ids);
+  for (const std::string& f : fields) {
+    const FieldSpec& spec = *find_field(f);
+    spec.extract(sim, b, buffer);
+    const auto columns = static_cast<std::size_t>(spec.components);
+    if (spec.number == FieldNumber::int32) {
+      std::vector<std::int32_t> values(buffer.size());
+      for (std::size_t k = 0; k < buffer.size(); ++k)
+        values[k] = static_cast<std::int32_t>(buffer[k]);
+      hdf5::write_int32(group, f, values, columns);
+    } else {
+      hdf5::write_doubles(group, f, buffer.data(), n, columns);
+    }
+  }
 }
 
 }  // namespace
-
-const std::vector<std::string>& known_field_names() {
-  static const std::vector<std::string> names{
-      "position", "displacement",          "velocity",     "damage",
-      "body_id",  "strain_energy_density", "force_density"};
-  return names;
-}
 
 FieldWriter::FieldWriter(std::string directory, std::vector<std::string> fields,
                          long long resume_after_step)
     : directory_(std::move(directory)) {
   fields_.push_back("position");
   for (const std::string& f : fields) {
-    const auto& known = known_field_names();
-    if (std::find(known.begin(), known.end(), f) == known.end()) {
-      std::string list;
-      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-      throw std::invalid_argument("unknown output field '" + f + "' (known: " + list + ")");
-    }
+    if (!find_field(f))
+      throw std::invalid_argument("unknown output field '" + f + "' (known: " + known_field_list() +
+                                  ")");
     if (std::find(fields_.begin(), fields_.end(), f) == fields_.end()) fields_.push_back(f);
   }
   std::error_code ec;
@@ -85,16 +139,17 @@ FieldWriter::FieldWriter(std::string directory, std::vector<std::string> fields,
                           "open " + path.string());
         const long long step = hdf5::read_int64_attribute(file, "step");
         if (step <= resume_after_step) {
-          Frame frame{
-              "fields/" + path.filename().string(), hdf5::read_double_attribute(file, "time"), {}};
+          Frame frame{"fields/" + path.filename().string(),
+                      hdf5::read_double_attribute(file, "time"),
+                      {},
+                      {}};
           for (long long b = 0;; ++b) {
             const std::string group = "body_" + std::to_string(b);
             if (H5Lexists(file, group.c_str(), H5P_DEFAULT) <= 0) break;
             hdf5::Handle g(H5Gopen2(file, group.c_str(), H5P_DEFAULT), H5Gclose, "open " + group);
-            hdf5::Handle set(H5Dopen2(g, "position", H5P_DEFAULT), H5Dclose, "open position");
-            hdf5::Handle space(H5Dget_space(set), H5Sclose, "read a shape");
-            frame.points.push_back(
-                static_cast<std::size_t>(H5Sget_simple_extent_npoints(space) / 3));
+            frame.points.push_back(dataset_rows(g, "position"));
+            frame.triangles.push_back(
+                H5Lexists(g, "triangles", H5P_DEFAULT) > 0 ? dataset_rows(g, "triangles") : 0);
           }
           frames_.push_back(std::move(frame));
           keep = true;
@@ -115,14 +170,15 @@ std::string FieldWriter::frame_name(std::size_t index) {
 }
 
 bool FieldWriter::needs_energy() const {
-  return std::find(fields_.begin(), fields_.end(), "strain_energy_density") != fields_.end();
+  return std::any_of(fields_.begin(), fields_.end(),
+                     [](const std::string& f) { return find_field(f)->needs_energy; });
 }
 
 void FieldWriter::write_frame(const Simulation& sim) {
   const std::string name = "fields/" + frame_name(frames_.size());
   const std::string final_path = directory_ + "/" + name;
   const std::string temp_path = final_path + ".partial";
-  Frame frame{name, sim.time(), {}};
+  Frame frame{name, sim.time(), {}, {}};
   {
     Handle file(H5Fcreate(temp_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
                 "create " + temp_path);
@@ -131,36 +187,20 @@ void FieldWriter::write_frame(const Simulation& sim) {
     const auto& bodies = sim.scene().bodies;
     std::vector<double> buffer;
     for (std::size_t b = 0; b < bodies.size(); ++b) {
-      const Body& body = bodies[b].body;
-      const std::size_t n = body.size();
-      frame.points.push_back(n);
+      const SceneBody& sb = bodies[b];
       Handle group(H5Gcreate2(file, ("body_" + std::to_string(b)).c_str(), H5P_DEFAULT, H5P_DEFAULT,
                               H5P_DEFAULT),
                    H5Gclose, "create a body group");
-      hdf5::write_string_attribute(group, "name", body.name);
-      hdf5::write_int64_attribute(group, "dimension", body.dimension);
-      for (const std::string& f : fields_) {
-        if (is_vector_field(f)) {
-          const std::vector<Vec3>* v = f == "displacement"    ? &body.displacement
-                                       : f == "velocity"      ? &body.velocity
-                                       : f == "force_density" ? &body.force_density
-                                                              : nullptr;
-          buffer.resize(3 * n);
-          for (std::size_t i = 0; i < n; ++i) {
-            const Vec3 x = v ? (*v)[i] : body.current_position(i);
-            buffer[3 * i] = x.x();
-            buffer[3 * i + 1] = x.y();
-            buffer[3 * i + 2] = x.z();
-          }
-          hdf5::write_doubles(group, f, buffer.data(), n, 3);
-        } else if (f == "damage") {
-          point_damage(body, buffer);
-          hdf5::write_doubles(group, f, buffer.data(), n, 1);
-        } else if (f == "strain_energy_density") {
-          hdf5::write_doubles(group, f, body.strain_energy_density.data(), n, 1);
-        } else if (f == "body_id") {
-          hdf5::write_int32(group, f, std::vector<std::int32_t>(n, static_cast<std::int32_t>(b)));
-        }
+      hdf5::write_string_attribute(group, "name", sb.body.name);
+      hdf5::write_int64_attribute(group, "dimension", sb.body.dimension);
+      if (sb.wall && sb.wall_surface) {
+        write_wall_group(group, sb, b, fields_);
+        frame.points.push_back(sb.wall_surface->vertex.size());
+        frame.triangles.push_back(sb.wall_surface->triangle.size());
+      } else {
+        write_point_group(group, sim, b, fields_, buffer);
+        frame.points.push_back(sb.body.size());
+        frame.triangles.push_back(0);
       }
     }
     if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0)
@@ -187,23 +227,35 @@ void FieldWriter::write_xdmf(const Simulation& sim) const {
         << "CollectionType=\"Spatial\">\n    <Time Value=\"" << frame.time << "\"/>\n";
       for (std::size_t b = 0; b < bodies.size(); ++b) {
         const std::size_t n = frame.points[b];
+        const std::size_t triangles = frame.triangles[b];
         const std::string h5 = frame.file + ":/body_" + std::to_string(b) + "/";
-        auto item = [&](const std::string& field, bool vector, const char* type) {
-          x << "      <DataItem Dimensions=\"" << n << (vector ? " 3" : "") << "\" NumberType=\""
-            << type << "\" Precision=\"" << (std::string(type) == "Int" ? 4 : 8)
-            << "\" Format=\"HDF\">" << h5 << field << "</DataItem>\n";
+        auto item = [&](const std::string& dataset, std::size_t rows, int columns,
+                        FieldNumber number) {
+          const bool integer = number == FieldNumber::int32;
+          x << "      <DataItem Dimensions=\"" << rows;
+          if (columns > 1) x << " " << columns;
+          x << "\" NumberType=\"" << (integer ? "Int" : "Float") << "\" Precision=\""
+            << (integer ? 4 : 8) << "\" Format=\"HDF\">" << h5 << dataset << "</DataItem>\n";
         };
-        x << "    <Grid Name=\"" << xml_escape(bodies[b].body.name) << "\" GridType=\"Uniform\">\n"
-          << "     <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
-          << "\" NodesPerElement=\"1\"/>\n     <Geometry GeometryType=\"XYZ\">\n";
-        item("position", true, "Float");
+        x << "    <Grid Name=\"" << xml_escape(bodies[b].body.name) << "\" GridType=\"Uniform\">\n";
+        if (triangles > 0) {
+          x << "     <Topology TopologyType=\"Triangle\" NumberOfElements=\"" << triangles
+            << "\" NodesPerElement=\"3\">\n";
+          item("triangles", triangles, 3, FieldNumber::int32);
+        } else {
+          x << "     <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
+            << "\" NodesPerElement=\"1\">\n";
+          item("connectivity", n, 1, FieldNumber::int32);
+        }
+        x << "     </Topology>\n     <Geometry GeometryType=\"XYZ\">\n";
+        item("position", n, 3, FieldNumber::float64);
         x << "     </Geometry>\n";
         for (const std::string& f : fields_) {
-          if (f == "position") continue;
-          const bool vector = is_vector_field(f);
+          if (f == "position" || (triangles > 0 && !wall_field(f))) continue;
+          const FieldSpec& spec = *find_field(f);
           x << "     <Attribute Name=\"" << f << "\" AttributeType=\""
-            << (vector ? "Vector" : "Scalar") << "\" Center=\"Node\">\n";
-          item(f, vector, f == "body_id" ? "Int" : "Float");
+            << xdmf_attribute_type(spec.components) << "\" Center=\"Node\">\n";
+          item(f, n, spec.components, spec.number);
           x << "     </Attribute>\n";
         }
         x << "    </Grid>\n";

@@ -1,22 +1,25 @@
 #pragma once
 // Field output for ParaView: one HDF5 file per output frame (DIR/fields/frame_NNNNNN.h5, one
-// group per body) and DIR/fields.xdmf, a temporal collection of those frames with points as
-// vertex cells, one block per body and the real time values. Each frame file is written under
+// group per body) and DIR/fields.xdmf, a temporal collection of those frames, one block per body
+// and the real time values. A point body is a Polyvertex grid with explicit connectivity
+// (0..N-1: the Xdmf3 readers build no cells without it); a mesh wall is a Triangle grid of its
+// surface, moved with the wall's rigid motion. Heavy-data paths are relative to the XDMF file.
+// The fields are the rows of src/output/field_table.hpp. Each frame file is written under
 // a temporary name and renamed when complete, and the XDMF is rewritten the same way after each
 // frame, so a run killed at any moment leaves every complete frame readable.
 #include <string>
 #include <vector>
 
 #include "src/engine/simulation.hpp"
+#include "src/output/field_table.hpp"
 
 namespace ckpd {
-
-// position, displacement, velocity, damage, body_id, strain_energy_density, force_density.
-const std::vector<std::string>& known_field_names();
 
 class FieldWriter {
  public:
   // `fields`: names from known_field_names() (position is always written: ParaView needs it).
+  // A mesh wall gets position, reference_position, displacement, body_id and point_id (its
+  // vertex index) of its surface vertices, where asked for; other fields are point fields only.
   // Throws std::invalid_argument for an unknown name, std::runtime_error when `directory`
   // cannot be written.
   // With `resume_after_step` >= 0 (a restart), frames already in the directory up to that step
@@ -35,7 +38,8 @@ class FieldWriter {
   struct Frame {
     std::string file;  // relative to the output directory
     double time;
-    std::vector<std::size_t> points;  // per body
+    std::vector<std::size_t> points;     // per body: points, or a wall's surface vertices
+    std::vector<std::size_t> triangles;  // per body: 0 for a point body
   };
   void write_xdmf(const Simulation& sim) const;
   static std::string frame_name(std::size_t index);

@@ -70,8 +70,10 @@ void write_vectors(hid_t group, const std::string& name, const std::vector<Vec3>
   write_doubles(group, name, data.empty() ? nullptr : data[0].data(), data.size(), 3);
 }
 
-void write_int32(hid_t group, const std::string& name, const std::vector<std::int32_t>& data) {
-  write_array(group, name, H5T_STD_I32LE, H5T_NATIVE_INT32, data.data(), data.size(), 1);
+void write_int32(hid_t group, const std::string& name, const std::vector<std::int32_t>& data,
+                 std::size_t columns) {
+  write_array(group, name, H5T_STD_I32LE, H5T_NATIVE_INT32, data.data(), data.size() / columns,
+              columns);
 }
 
 void write_bytes(hid_t group, const std::string& name, const std::vector<std::uint8_t>& data) {

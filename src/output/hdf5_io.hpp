@@ -31,7 +31,9 @@ void silence_errors();
 void write_doubles(hid_t group, const std::string& name, const double* data, std::size_t rows,
                    std::size_t columns);
 void write_vectors(hid_t group, const std::string& name, const std::vector<Vec3>& data);
-void write_int32(hid_t group, const std::string& name, const std::vector<std::int32_t>& data);
+// `columns` > 1: a (data.size() / columns) x columns array.
+void write_int32(hid_t group, const std::string& name, const std::vector<std::int32_t>& data,
+                 std::size_t columns = 1);
 void write_bytes(hid_t group, const std::string& name, const std::vector<std::uint8_t>& data);
 void write_double_attribute(hid_t object, const std::string& name, double value);
 void write_int64_attribute(hid_t object, const std::string& name, long long value);

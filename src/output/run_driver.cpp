@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
 
 #include "src/output/checkpoint.hpp"
@@ -25,7 +26,13 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
     std::filesystem::create_directories(out, ec);
     if (ec || !std::filesystem::is_directory(out))
       throw std::runtime_error(out + ": cannot create the output directory");
-    history_.emplace(out + "/history.csv", resume_);
+    log_.emplace(out + "/run.log", resume_ >= 0);
+    for (const std::string& line : options_.log_header) log_->write(line);
+    if (resume_ >= 0)
+      log_->write("restarted from " + options_.restarted_from + " at step " +
+                  std::to_string(resume_));
+    progress_.set_log([this](const std::string& line) { log_->write(line); });
+    history_.emplace(out + "/history.csv", resume_, o.history);
     // Summaries of earlier runs in this folder must not pass for this one's.
     std::filesystem::remove(out + "/summary.json", ec);
     if (o.writes_fields()) fields_.emplace(out, o.fields, resume_);
@@ -33,6 +40,7 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
   if (resume_ < 0 && history_) history_->write_row(sim_);
   if (resume_ < 0) row_step_ = sim_.step();
   if (fields_ && (resume_ < 0 || fields_->frames() == 0)) fields_->write_frame(sim_);
+  progress_.energy_evaluated(sim_);
   // Model breakdown (inverted tetrahedra/triangles) is reported once, when first seen.
   report_inversion();
 }
@@ -55,6 +63,11 @@ void RunDriver::report_inversion() {
   inversion_reported_ = true;
   progress_.finish();
   std::cerr << "ckpd: warning: " << inversion_warning(sim_) << '\n';
+  log("warning: " + inversion_warning(sim_));
+}
+
+void RunDriver::log(const std::string& line) {
+  if (log_) log_->write(line);
 }
 
 void RunDriver::step(bool with_energy) {
@@ -64,7 +77,9 @@ void RunDriver::step(bool with_energy) {
   const bool row = next % interval_ == 0 || last;
   const double dt = sim_.step_choice().dt;
   const bool frame = frame_due(next, static_cast<double>(next) * dt) || (fields_ && last);
-  sim_.advance(with_energy || row || (frame && fields_->needs_energy()));
+  const bool energy = with_energy || row || (frame && fields_->needs_energy());
+  sim_.advance(energy);
+  if (energy) progress_.energy_evaluated(sim_);
   if (row) {
     if (history_) history_->write_row(sim_);
     row_step_ = sim_.step();
@@ -93,6 +108,7 @@ nlohmann::ordered_json RunDriver::summary(const std::string& status,
   if (fields_) j["field_frames"] = fields_->frames();
   if (!options_.restarted_from.empty())
     j["restarted_from"] = {{"file", options_.restarted_from}, {"step", resume_}};
+  if (!options_.provenance.is_null()) j["provenance"] = options_.provenance;
   return j;
 }
 
@@ -103,6 +119,15 @@ void RunDriver::stop(const std::string& status, const std::string& message) {
     row_step_ = sim_.step();
   }
   if (!options_.out.empty()) write_json(options_.out + "/summary.json", summary(status, message));
+  if (status == "completed") {
+    std::ostringstream line;
+    line << "completed " << sim_.step() << " steps to t = " << sim_.time() << " s in "
+         << seconds() << " s; peak RSS " << peak_rss_mb() << " MB; max damage "
+         << sim_.max_damage() << "; results in " << options_.out;
+    log(line.str());
+  } else {
+    log("stopped (" + status + "): " + message);
+  }
 }
 
 }  // namespace ckpd

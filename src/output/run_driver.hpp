@@ -8,9 +8,11 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "src/output/field_writer.hpp"
 #include "src/output/progress.hpp"
+#include "src/output/run_log.hpp"
 #include "src/output/run_output.hpp"
 
 namespace ckpd {
@@ -21,6 +23,10 @@ struct RunDriverOptions {
   bool progress = false;       // the progress line on stdout
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
   double setup_seconds = 0;  // case loading and set-up, for the summary
+  // DIR/run.log's first lines (version, command line, overrides, set-up), and what summary.json
+  // records of how the run was made; both empty: nothing of the kind.
+  std::vector<std::string> log_header;
+  nlohmann::ordered_json provenance;
 };
 
 class RunDriver {
@@ -39,8 +45,10 @@ class RunDriver {
   // Writes DIR/checkpoint.h5 unless this step has written it already.
   void write_checkpoint();
   // Ends the run: the history row of the current step (unless it has one) and summary.json
-  // with `status` ("completed", "unstable", ...) and `message`.
+  // with `status` ("completed", "unstable", ...) and `message`; the log's last line.
   void stop(const std::string& status, const std::string& message);
+  // A line for DIR/run.log (none without an output folder).
+  void log(const std::string& line);
   // The summary as it would be written now.
   nlohmann::ordered_json summary(const std::string& status, const std::string& message) const;
 
@@ -59,6 +67,7 @@ class RunDriver {
   long long interval_ = 1;
   std::optional<HistoryWriter> history_;
   std::optional<FieldWriter> fields_;
+  std::optional<RunLog> log_;
   ProgressReporter progress_;
   long long row_step_ = -1;         // the step of the last history row
   long long checkpoint_step_ = -1;  // the step of the last checkpoint

@@ -13,14 +13,19 @@
 #include "bodies/fragments.hpp"
 #include "src/output/beta_report.hpp"
 #include "src/output/contact_summary.hpp"
+#include "src/output/history_quantities.hpp"
 #include "src/output/kernel_report.hpp"
 
 namespace ckpd {
 
-HistoryWriter::HistoryWriter(const std::string& path, long long resume_after_step) : path_(path) {
-  const char* header =
+HistoryWriter::HistoryWriter(const std::string& path, long long resume_after_step,
+                             std::vector<HistoryQuantity> chosen)
+    : path_(path), chosen_(std::move(chosen)) {
+  std::string header =
       "step,time,kinetic,strain,contact,external_work,dissipated,balance_error,broken_bonds,"
       "max_damage,inverted";
+  for (const HistoryQuantity& q : chosen_)
+    for (const std::string& column : history_columns(q)) header += "," + column;
   std::vector<std::string> kept;
   if (resume_after_step >= 0) {
     std::ifstream in(path);
@@ -46,7 +51,10 @@ void HistoryWriter::write_row(const Simulation& sim) {
   out_ << std::setprecision(10) << sim.step() << ',' << sim.time() << ',' << e.kinetic << ','
        << e.strain << ',' << e.contact << ',' << e.external_work << ',' << e.dissipated << ','
        << e.balance_error << ',' << sim.broken_bonds() << ',' << sim.max_damage() << ','
-       << sim.inverted() << '\n';
+       << sim.inverted();
+  for (const HistoryQuantity& q : chosen_)
+    for (double v : history_values(sim, q)) out_ << ',' << v;
+  out_ << '\n';
   out_.flush();
   if (!out_) throw std::runtime_error(path_ + ": writing the history failed");
 }

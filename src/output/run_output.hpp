@@ -14,12 +14,15 @@ class HistoryWriter {
   // Throws std::runtime_error naming the path when it cannot be written. With
   // `resume_after_step` >= 0 (a restart) an existing history keeps its rows up to that step and
   // is continued; otherwise it starts anew.
-  explicit HistoryWriter(const std::string& path, long long resume_after_step = -1);
+  // `chosen`: the case's extra columns (output.history), after the default ones.
+  explicit HistoryWriter(const std::string& path, long long resume_after_step = -1,
+                         std::vector<HistoryQuantity> chosen = {});
   void write_row(const Simulation& sim);
 
  private:
   std::ofstream out_;
   std::string path_;
+  std::vector<HistoryQuantity> chosen_;
 };
 
 // Peak resident set size of this process in MB.
