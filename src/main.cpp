@@ -10,8 +10,8 @@
 #include "src/cli/patch_test_command.hpp"
 #include "src/cli/run_command.hpp"
 #include "src/cli/sweep_command.hpp"
-#include "src/output/checkpoint.hpp"
 #include "src/input/case_node.hpp"
+#include "src/output/checkpoint.hpp"
 
 namespace {
 
@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   int exit_status = 0;
   ckpd::add_run_command(app, exit_status);
-  ckpd::add_check_command(app);
+  ckpd::add_check_command(app, exit_status);
   ckpd::add_patch_test_command(app);
   ckpd::add_sweep_command(app, exit_status);
   try {

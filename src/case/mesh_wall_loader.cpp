@@ -1,6 +1,7 @@
 #include "src/case/mesh_wall_loader.hpp"
 
 #include "src/geometry/mesh/mesh_properties.hpp"
+#include "src/geometry/mesh/mesh_source.hpp"
 
 namespace ckpd {
 

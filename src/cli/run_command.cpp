@@ -10,6 +10,8 @@
 #include <memory>
 #include <optional>
 
+#include "src/case/case_loader.hpp"
+#include "src/cli/setup_interrupt.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/output/beta_report.hpp"
 #include "src/output/checkpoint.hpp"
@@ -17,7 +19,6 @@
 #include "src/output/kernel_report.hpp"
 #include "src/output/progress.hpp"
 #include "src/output/run_output.hpp"
-#include "src/case/case_loader.hpp"
 
 namespace ckpd {
 
@@ -59,6 +60,7 @@ void print_setup(const Simulation& sim, std::ostream& os) {
 
 int run(const RunOptions& opt) {
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  stop_on_signal_during_setup();
   const auto start = std::chrono::steady_clock::now();
   Scene scene = load_scene(opt.case_file, opt.overrides);
   Simulation sim(scene);
@@ -66,6 +68,10 @@ int run(const RunOptions& opt) {
   const long long resume = opt.restart.empty() ? -1 : sim.step();
   const double setup_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // From here a signal finishes the step, writes a checkpoint and stops (the loop below).
+  stop_requested = 0;
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
   if (!opt.quiet) print_setup(sim, std::cout);
 
   std::string out = opt.out_dir;
@@ -95,9 +101,6 @@ int run(const RunOptions& opt) {
   if (resume < 0) history.write_row(sim);
   if (fields && (resume < 0 || fields->frames() == 0)) fields->write_frame(sim);
   const std::string checkpoint = out + "/checkpoint.h5";
-  stop_requested = 0;
-  std::signal(SIGINT, request_stop);
-  std::signal(SIGTERM, request_stop);
   auto seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };

@@ -54,7 +54,8 @@ const bool velocity_registered =
     register_condition("velocity", [](const CaseNode& n, const ConditionTarget& t) {
       const int dim = t.body.dimension;
       auto points = select_points(n.optional("region"), t);
-      const Vec3 value = n.required("value").as_vector(dim);
+      const Vec3 value =
+          n.required("value").as_vector_below(dim, CaseNode::kMaxSpeed, "a velocity in m/s");
       const std::uint8_t components = read_components(n.optional("components"), dim);
       double ramp = 0;
       if (auto r = n.optional("ramp_time")) ramp = r->as_non_negative();
