@@ -5,8 +5,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # python3-h5py and python3-matplotlib: scripts/render_damage.py and scripts/max_stretch.py.
+# clang, libclang-rt-14-dev (libFuzzer, sanitizers) and libomp-dev: scripts/fuzz.sh.
 packages=(cmake g++ make libeigen3-dev libyaml-cpp-dev libcli11-dev catch2 nlohmann-json3-dev
-          libfcl-dev libassimp-dev libhdf5-dev python3 python3-h5py python3-matplotlib)
+          libfcl-dev libassimp-dev libhdf5-dev python3 python3-h5py python3-matplotlib
+          clang libclang-rt-14-dev libomp-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -15,6 +15,12 @@
 #include <filesystem>
 #include <unordered_map>
 
+#if defined(__has_feature)
+#define CKPD_HAS_ADDRESS_SANITIZER __has_feature(address_sanitizer)
+#else
+#define CKPD_HAS_ADDRESS_SANITIZER 0
+#endif
+
 namespace ckpd {
 
 void TriangleMesh::bounds(Vec3& lo, Vec3& hi) const {
@@ -105,7 +111,7 @@ void write_all(int fd, const void* data, std::size_t size) {
   // stopped by the kernel, and the parent reports it.
   rlimit cpu{kMeshImportCpuSeconds, kMeshImportCpuSeconds + 1};
   setrlimit(RLIMIT_CPU, &cpu);
-#if !defined(__SANITIZE_ADDRESS__) && !defined(CKPD_NO_ADDRESS_LIMIT)
+#if !defined(__SANITIZE_ADDRESS__) && !CKPD_HAS_ADDRESS_SANITIZER
   // (AddressSanitizer reserves terabytes of address space: no limit under it.)
   rlimit memory{kMeshImportMemoryBytes, kMeshImportMemoryBytes};
   setrlimit(RLIMIT_AS, &memory);
