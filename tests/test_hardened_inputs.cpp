@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "run_helpers.hpp"
+#include "sweep_fixtures.hpp"
 
 using namespace ckpd::testing;
 
@@ -255,4 +256,128 @@ TEST_CASE("a mesh file over the size limit is refused before it is read", "[hard
   std::filesystem::resize_file(mesh, std::uintmax_t{2} << 30);
   expect_refused(mesh_case(mesh.string()),
                  {"case.yaml:7: bodies[0].geometry.file", "at most 1024 MiB", "2048 MiB"});
+}
+
+TEST_CASE("sweep expressions and sizes past their bounds are refused at once",
+          "[hardened][sweep]") {
+  const auto dir = fresh_dir("hardened-sweep");
+  write_sweep_base(dir);
+  auto refused = [&](const std::string& body, const std::string& what) {
+    const std::string sweep = write_file(dir / "bad.yaml", "base: base.yaml\n" + body);
+    const auto out = dir / "out";
+    const CommandResult r = run_ckpd("sweep " + sweep + " --dry-run --out " + out.string());
+    INFO(r.output.substr(0, 2000));
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find(what) != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(out));
+  };
+  const std::string dx = "parameters:\n  dx: {key: bodies.block.spacing, values: [0.001]}\n";
+  // 20,000 nested parentheses and a 50,000-term sum overflowed the stack.
+  refused(
+      dx + "  h: {expr: \"" + std::string(20000, '(') + "dx" + std::string(20000, ')') + "\"}\n",
+      "bad.yaml:4: parameters.h.expr");
+  refused(
+      dx + "  h: {expr: \"" + std::string(20000, '(') + "dx" + std::string(20000, ')') + "\"}\n",
+      "longer than the limit of 4096");
+  refused(dx + "  h: {expr: \"" + std::string(300, '(') + "dx" + std::string(300, ')') + "\"}\n",
+          "at most 200 nested levels");
+  std::string sum = "dx";
+  for (int k = 0; k < 50000; ++k) sum += "+1";
+  refused(dx + "  h: {expr: \"" + sum + "\"}\n", "longer than the limit of 4096");
+  // A million-run range and a 3000 x 3000 grid took minutes to resolve.
+  refused(
+      "parameters:\n  dx: {key: bodies.block.spacing, range: {from: 0.001, to: 0.002, count: "
+      "1000000}}\n",
+      "bad.yaml:3: parameters.dx.range.count: expected a count from 1 to 100000");
+  std::string a = "[", b = "[";
+  for (int k = 0; k < 3000; ++k) {
+    a += (k ? ", " : "") + std::to_string(0.001 + 1e-7 * k);
+    b += (k ? ", " : "") + std::to_string(2.0 + 1e-3 * k);
+  }
+  refused("parameters:\n  dx: {key: bodies.block.spacing, values: " + a +
+              "]}\n  m: {key: bodies.block.horizon_ratio, values: " + b + "]}\n",
+          "at most 100000 runs (the grid has 9");
+}
+
+TEST_CASE("check's timed steps exit 3 on an instability, as run does", "[hardened]") {
+  // dt forced to 20 x the stable estimate: the first steps blow up.
+  const std::string text = replace(
+      replace(kPlate, "time: {steps: 5}", "time: {steps: 50, dt: 3e-5, allow_unstable_dt: true}"),
+      "    horizon_ratio: 3.015\n",
+      "    horizon_ratio: 3.015\nconditions:\n  - {type: initial_velocity, body: plate, value: [1, "
+      "0]}\n");
+  const auto dir = fresh_dir("hardened-unstable");
+  const std::string file = write_file(dir / "case.yaml", text);
+  const CommandResult run = run_ckpd("run " + file + " --quiet --out " + (dir / "out").string());
+  INFO(run.output);
+  CHECK(run.exit_code == 3);
+  const CommandResult check = run_ckpd("check " + file + " --steps 50");
+  INFO(check.output);
+  CHECK(check.exit_code == 3);
+  CHECK(check.output.find("instability at step") != std::string::npos);
+}
+
+TEST_CASE("an output folder that cannot be created is exit 2, before any step", "[hardened]") {
+  const auto dir = fresh_dir("hardened-out");
+  const std::string file = write_file(dir / "case.yaml", kPlate);
+  write_file(dir / "a_file", "x");
+  const CommandResult r =
+      run_ckpd("run " + file + " --quiet --out " + (dir / "a_file" / "out").string());
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("cannot create the output directory") != std::string::npos);
+}
+
+TEST_CASE("SIGTERM during set-up exits 130 with a message and writes nothing", "[hardened]") {
+  // 216,000 points with their families: seconds of set-up, interrupted after half a second.
+  const std::string text =
+      replace(replace(kImpact, "min: [-0.01, -0.01, -0.002], max: [0.01, 0.01, 0]",
+                      "min: [-0.03, -0.03, -0.06], max: [0.03, 0.03, 0]"),
+              "contact:\n  stiffness: 1.0e12\n", "");
+  const auto dir = fresh_dir("hardened-sigterm");
+  const std::string file = write_file(dir / "case.yaml", text);
+  const auto out = dir / "out";
+  const CommandResult r =
+      run_ckpd("run " + file + " --quiet --out " + out.string() +
+               " 2>&1 & pid=$!; sleep 0.5; kill -TERM $pid; wait $pid; echo exit=$?");
+  INFO(r.output);
+  CHECK(r.output.find("exit=130") != std::string::npos);
+  CHECK(r.output.find("interrupted (SIGTERM) during set-up; nothing was run or written") !=
+        std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(out));
+}
+
+TEST_CASE("a restart after SIGTERM continues the history without a repeated row", "[hardened]") {
+  // Moving (a body at rest trips the energy guard on round-off over thousands of steps).
+  const std::string text =
+      replace(kPlate, "time: {steps: 5}",
+              "conditions:\n  - {type: initial_velocity, body: plate, value: [1, 0]}\n"
+              "time: {steps: 100000000}\noutput: {history_interval: 7}");
+  const auto dir = fresh_dir("hardened-history");
+  const std::string file = write_file(dir / "case.yaml", text);
+  const auto out = dir / "out";
+  const CommandResult r =
+      run_ckpd("run " + file + " --quiet --out " + out.string() +
+               " 2>&1 & pid=$!; sleep 1.5; kill -TERM $pid; wait $pid; echo exit=$?");
+  INFO(r.output);
+  REQUIRE(r.output.find("exit=130") != std::string::npos);
+  const long long stopped = read_json(out / "summary.json")["steps"];
+  for (int restart = 0; restart < 2; ++restart) {
+    const CommandResult more = run_ckpd("run " + file + " --quiet --out " + out.string() +
+                                        " --restart " + (out / "checkpoint.h5").string() +
+                                        " --set time.steps=" + std::to_string(stopped + 20));
+    INFO(more.output);
+    CHECK(more.exit_code == 0);
+  }
+  std::ifstream history(out / "history.csv");
+  std::string line;
+  std::getline(history, line);
+  long long previous = -1;
+  while (std::getline(history, line)) {
+    const long long step = std::stoll(line.substr(0, line.find(',')));
+    INFO(line);
+    CHECK(step > previous);
+    previous = step;
+  }
+  CHECK(previous == stopped + 20);
 }

@@ -79,8 +79,16 @@ int run(const RunOptions& opt) {
   std::error_code ec;
   std::filesystem::create_directories(out, ec);
   if (ec || !std::filesystem::is_directory(out))
-    throw std::runtime_error(out + ": cannot create the output directory");
-  HistoryWriter history(out + "/history.csv", resume);
+    throw CaseError("--out " + out + ": cannot create the output directory" +
+                    (ec ? " (" + ec.message() + ")" : std::string()));
+  // An output folder that cannot be written is bad input too (exit 2), found before any step.
+  std::optional<HistoryWriter> history_file;
+  try {
+    history_file.emplace(out + "/history.csv", resume);
+  } catch (const std::runtime_error& e) {
+    throw CaseError("--out " + out + ": " + e.what());
+  }
+  HistoryWriter& history = *history_file;
   // Summaries of earlier runs in this folder must not pass for this one's.
   std::filesystem::remove(out + "/summary.json", ec);
 

@@ -45,7 +45,9 @@ class Parser {
 
  private:
   [[noreturn]] void fail(const std::string& expected) const {
-    throw ExpressionError("expression '" + text_ + "': at character " + std::to_string(pos_ + 1) +
+    // A long expression is shown by its start only (the error names the position).
+    const std::string shown = text_.size() > 60 ? text_.substr(0, 57) + "..." : text_;
+    throw ExpressionError("expression '" + shown + "': at character " + std::to_string(pos_ + 1) +
                           ": expected " + expected);
   }
   void skip() {
