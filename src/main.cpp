@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", ckpd::version_line(), "print the version and build flags");
   int exit_status = 0;
   ckpd::add_run_command(app, exit_status);
-  ckpd::add_check_command(app);
+  ckpd::add_check_command(app, exit_status);
   ckpd::add_patch_test_command(app);
   ckpd::add_sweep_command(app, exit_status);
   if (const std::string bad = check_command_name(argc, argv, app); !bad.empty())

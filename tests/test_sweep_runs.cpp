@@ -199,7 +199,7 @@ TEST_CASE("bad sweep input is refused before any run starts", "[sweep]") {
   refused("parameters:\n  dx: {key: bodies.block.spacing, values: []}\n", "",
           "bad.yaml:3: parameters.dx.values: an empty list of values");
   refused("parameters:\n  dx: {key: bodies.block.spacing, range: {from: 1, to: 2, count: -1}}\n",
-          "", "parameters.dx.range.count: expected a count from 1 to 1000000");
+          "", "parameters.dx.range.count: expected a count from 1 to 100000");
   refused("parameters:\n  dx: {key: bodies.block.spacing, values: [0.001]}\n", "--shard 3/2",
           "--shard 3/2: expected I/N with 1 <= I <= N");
 }

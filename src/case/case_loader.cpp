@@ -15,6 +15,7 @@
 #include "src/geometry/mesh/mesh_shape.hpp"
 #include "src/geometry/point_cloud.hpp"
 #include "src/geometry/shape.hpp"
+#include "src/geometry/work_estimate.hpp"
 #include "src/input/nearest_name.hpp"
 #include "src/output/field_writer.hpp"
 #include "src/output/history_quantities.hpp"
@@ -24,6 +25,8 @@ namespace ckpd {
 namespace {
 
 constexpr std::size_t kDefaultMaxPoints = 20'000'000;
+// A spacing below a nanometre is no continuum (the material bounds: material_model.hpp).
+constexpr double kMinLength = 1e-9;
 
 struct MaterialSpec {
   std::shared_ptr<const MaterialModel> model;  // src/case/material_model.hpp
@@ -53,7 +56,32 @@ std::vector<Precrack> read_precracks(const CaseNode& list, int dimension) {
   return cracks;
 }
 
-SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>& materials) {
+// The memory the bodies will take, charged body by body before each is built and refused
+// against the case's max_memory (bytes) or the machine's available memory.
+struct MemoryBudget {
+  std::uint64_t limit = 0;  // 0: unknown (no /proc/meminfo), nothing is refused
+  std::string source;       // "max_memory" or "the available memory (MemAvailable)"
+  std::uint64_t used = 0;
+
+  void charge(const CaseNode& body, const std::string& name, std::uint64_t points,
+              std::uint64_t family) {
+    const std::uint64_t bytes = body_bytes_estimate(points, family);
+    used = saturating_add(used, bytes);
+    if (limit && used > limit) {
+      std::ostringstream msg;
+      msg << body.where() << ": body '" << name << "' needs at least " << format_bytes(bytes)
+          << " (" << format_count(points) << " points x about " << format_count(family)
+          << " bonds each, " << format_count(saturating_mul(points, family)) << " bonds), "
+          << format_bytes(used) << " with the bodies before it, over " << source << " of "
+          << format_bytes(limit) << " (coarsen the spacing, lower the horizon ratio"
+          << (source == "max_memory" ? ", or raise max_memory)" : ")");
+      throw CaseError(msg.str());
+    }
+  }
+};
+
+SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>& materials,
+                    MemoryBudget& budget) {
   if (n.has("rigid")) {
     // A rigid body's material, when it has one, gives only its density.
     std::optional<double> density;
@@ -85,17 +113,28 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
       p->fail("'stress' or 'strain'");
     }
   }
-  const double spacing = n.required("spacing").as_positive();
+  const double spacing =
+      n.required("spacing").as_in_range(kMinLength, kMaxCoordinate, "a spacing in m");
   const auto horizon_node = n.optional("horizon");
   const auto ratio_node = n.optional("horizon_ratio");
   if (horizon_node && ratio_node) n.fail("either horizon or horizon_ratio, not both");
   if (!horizon_node && !ratio_node) n.fail("a horizon (or horizon_ratio = horizon / spacing)");
   def.horizon = horizon_node ? horizon_node->as_positive() : ratio_node->as_positive() * spacing;
+  const CaseNode& horizon_key = horizon_node ? *horizon_node : *ratio_node;
   if (def.horizon < spacing) {
     std::ostringstream msg;
     msg << "a horizon of at least the spacing (" << spacing << " m), else no point has a bond; got "
         << def.horizon << " m";
-    (horizon_node ? *horizon_node : *ratio_node).fail(msg.str());
+    horizon_key.fail(msg.str());
+  }
+  // The family's size sets the set-up cost (its square or cube) and the memory per point.
+  const std::uint64_t family = family_size_estimate(def.dimension, def.horizon / spacing);
+  if (family > kMaxFamilySize) {
+    std::ostringstream msg;
+    msg << "a horizon / spacing whose family holds at most " << kMaxFamilySize
+        << " lattice offsets; horizon / spacing = " << def.horizon / spacing << " gives about "
+        << format_count(family);
+    horizon_key.fail(msg.str());
   }
 
   std::size_t max_points = kDefaultMaxPoints;
@@ -122,11 +161,14 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
     } catch (const std::invalid_argument& e) {
       geometry.fail(std::string("a geometry that can be sampled (") + e.what() + ")");
     }
-    if (sample.position.empty())
-      throw CaseError(geometry.where() + ": body '" + def.name +
-                      "' has no points: the geometry holds no lattice site at spacing " +
-                      std::to_string(spacing) + " m");
+    if (sample.position.empty()) {
+      std::ostringstream msg;
+      msg << geometry.where() << ": body '" << def.name
+          << "' has no points: the geometry holds no lattice site at spacing " << spacing << " m";
+      throw CaseError(msg.str());
+    }
   }
+  budget.charge(n, def.name, sample.position.size(), family);
   if (auto b = n.optional("beta")) {
     // strict: a family fuller than the reference is an error; capped: beta = min(raw, 1),
     // with the count of capped points reported (README, "Point clouds").
@@ -254,7 +296,10 @@ TimeSettings read_time(const CaseNode& t) {
     if (s.steps < 0) steps->fail("a non-negative number of steps");
   }
   if (auto dt = t.optional("dt")) {
-    if (!(dt->is_scalar() && dt->as_string() == "auto")) s.dt = dt->as_positive();
+    if (!(dt->is_scalar() && dt->as_string() == "auto")) {
+      s.dt = dt->as_positive();
+      s.dt_where = dt->where();
+    }
   }
   if (auto f = t.optional("safety")) {
     s.safety = f->as_positive();
@@ -265,16 +310,21 @@ TimeSettings read_time(const CaseNode& t) {
   return s;
 }
 
-// Hash of everything but `time`, `output` and `description`: a checkpoint can be continued
-// with a later end time or other output, but not with other physics.
-std::string physics_fingerprint(const YAML::Node& root) {
+// Everything but `time`, `output`, `description` and `max_memory`, as YAML: a checkpoint can
+// be continued with a later end time or other output, but not with other physics.
+std::string physics_text(const YAML::Node& root) {
   YAML::Node physics;
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();
-    if (key != "time" && key != "output" && key != "description") physics[key] = kv.second;
+    if (key != "time" && key != "output" && key != "description" && key != "max_memory")
+      physics[key] = kv.second;
   }
-  const std::string text = YAML::Dump(physics);
-  std::uint64_t h = 1469598103934665603ull;  // FNV-1a
+  return YAML::Dump(physics);
+}
+
+// FNV-1a of the physics text, 16 hex digits.
+std::string physics_fingerprint(const std::string& text) {
+  std::uint64_t h = 1469598103934665603ull;
   for (unsigned char c : text) {
     h ^= c;
     h *= 1099511628211ull;
@@ -356,12 +406,21 @@ Scene load_scene(YAML::Node resolved, const std::string& case_file,
   root.set_overrides(std::move(applied));
   Scene scene;
   scene.case_file = case_file;
-  scene.fingerprint = physics_fingerprint(resolved);
+  scene.physics = physics_text(resolved);
+  scene.fingerprint = physics_fingerprint(scene.physics);
   if (auto d = root.optional("description")) d->as_string();
   const auto materials = read_materials(root);
+  MemoryBudget budget;
+  if (auto m = root.optional("max_memory")) {
+    budget.limit = saturating_count(m->as_in_range(1e6, 1e18, "a memory limit in bytes"));
+    budget.source = "max_memory";
+  } else {
+    budget.limit = default_memory_budget();
+    budget.source = "the available memory (MemAvailable)";
+  }
   const CaseNode bodies = root.required("bodies");
   for (const CaseNode& b : bodies.elements()) {
-    SceneBody sb = read_body(b, materials);
+    SceneBody sb = read_body(b, materials, budget);
     for (const SceneBody& other : scene.bodies)
       if (other.body.name == sb.body.name) b.fail("a body name used once (" + sb.body.name + ")");
     scene.bodies.push_back(std::move(sb));

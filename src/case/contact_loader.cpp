@@ -10,10 +10,12 @@ namespace {
 
 ContactConstants read_constants(const CaseNode& n) {
   ContactConstants c;
-  if (auto v = n.optional("radius")) c.radius = v->as_positive();
-  if (auto v = n.optional("stiffness")) c.stiffness = v->as_positive();
+  if (auto v = n.optional("radius")) c.radius = v->as_in_range(1e-9, 1e6, "a contact radius in m");
+  if (auto v = n.optional("stiffness"))
+    c.stiffness = v->as_in_range(1e-3, 1e16, "a contact stiffness in Pa");
   if (auto v = n.optional("skin")) c.skin = v->as_non_negative();
-  if (auto v = n.optional("horizon")) c.horizon = v->as_positive();
+  if (auto v = n.optional("horizon"))
+    c.horizon = v->as_in_range(1e-9, 1e6, "a contact horizon in m");
   return c;
 }
 

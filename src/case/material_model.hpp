@@ -13,6 +13,12 @@
 
 namespace ckpd {
 
+// Physical bounds of material inputs (SI). Diamond's modulus is 1.2e12 Pa, osmium's density
+// 2.26e4 kg/m^3. Wider values are typos or probes, and they overflow or underflow the stable
+// step (E = 1e300 gave an unbounded step).
+constexpr double kMinModulus = 1e-3, kMaxModulus = 1e16;
+constexpr double kMinDensity = 1e-9, kMaxDensity = 1e9;
+
 // What a material needs to know about the body it is given to.
 struct MaterialTarget {
   int dimension = 3;

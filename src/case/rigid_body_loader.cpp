@@ -1,9 +1,9 @@
 #include "src/case/rigid_body_loader.hpp"
 
+#include "src/case/mesh_wall_loader.hpp"
 #include "src/geometry/lattice.hpp"
 #include "src/geometry/mesh/mesh_shape.hpp"
 #include "src/geometry/shape.hpp"
-#include "src/case/mesh_wall_loader.hpp"
 
 namespace ckpd {
 
@@ -31,7 +31,8 @@ SceneBody read_rigid_body(const CaseNode& n, std::optional<double> material_dens
   const RigidMotion::Kind kind =
       motion == "free" ? RigidMotion::Kind::free : RigidMotion::Kind::prescribed;
   Vec3 velocity = Vec3::Zero(), omega = Vec3::Zero();
-  if (auto v = r.optional("velocity")) velocity = v->as_vector(dimension);
+  if (auto v = r.optional("velocity"))
+    velocity = v->as_vector_below(dimension, CaseNode::kMaxSpeed, "a velocity in m/s");
   if (auto w = r.optional("angular_velocity"))
     omega = dimension == 3 ? w->as_vector(3) : Vec3(0, 0, w->as_double());
   std::optional<double> mass;
@@ -47,7 +48,7 @@ SceneBody read_rigid_body(const CaseNode& n, std::optional<double> material_dens
     return read_mesh_wall(n, *w, name, kind, velocity, omega, mass, material_density);
   }
 
-  const double spacing = n.required("spacing").as_positive();
+  const double spacing = n.required("spacing").as_in_range(1e-9, 1e6, "a spacing in m");
   std::size_t max_points = kDefaultMaxPoints;
   if (auto m = n.optional("max_points")) {
     const long long v = m->as_integer();

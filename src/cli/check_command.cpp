@@ -11,6 +11,7 @@
 
 #include "src/case/case_loader.hpp"
 #include "src/cli/cli_options.hpp"
+#include "src/cli/setup_interrupt.hpp"
 #include "src/engine/contact_coupling.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/output/kernel_report.hpp"
@@ -65,8 +66,10 @@ void print_mesh(const MeshInfo& m, const Body& b) {
   std::cout << ", " << b.size() << " points\n";
 }
 
-void check(const CheckOptions& opt) {
+// Returns the exit status: 0, or 3 when a timed step goes unstable (as `run` would).
+int check(const CheckOptions& opt) {
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  stop_on_signal_during_setup();  // check writes nothing: a signal stops it at any point
   const auto start = std::chrono::steady_clock::now();
   Scene scene = load_scene(opt.case_file, opt.overrides);
   Simulation sim(scene);
@@ -114,21 +117,30 @@ void check(const CheckOptions& opt) {
   const int steps = static_cast<int>(std::min<long long>(opt.steps, sim.planned_steps()));
   if (steps <= 0) {
     std::cout << "set-up took " << setup << " s; no steps to time\n";
-    return;
+    return 0;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  for (int k = 0; k < steps; ++k) sim.advance(false);
+  try {
+    // The last timed step checks the energy too: an instability that the speed guard has not
+    // caught yet is an energy blow-up (run checks it at every history row).
+    for (int k = 0; k < steps; ++k) sim.advance(k + 1 == steps);
+  } catch (const InstabilityError& e) {  // TunnellingError too
+    std::cerr << "ckpd: " << e.what() << "\nckpd: check: the case is not stable within the "
+              << steps << " timed steps\n";
+    return 3;
+  }
   const double per_step =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / steps;
   const double projected = setup + per_step * static_cast<double>(sim.planned_steps());
   std::cout << "timing: set-up " << setup << " s, " << per_step << " s per step over " << steps
             << " steps at " << omp_get_max_threads() << " threads; projected run time " << projected
             << " s (" << projected / 3600 << " h)\n";
+  return 0;
 }
 
 }  // namespace
 
-void add_check_command(CLI::App& app) {
+void add_check_command(CLI::App& app, int& exit_status) {
   auto opt = std::make_shared<CheckOptions>();
   CLI::App* cmd = app.add_subcommand(
       "check", "Validate a case without running it: sizes, memory, stable step, projected time");
@@ -137,7 +149,7 @@ void add_check_command(CLI::App& app) {
   cmd->add_option("--steps", opt->steps, "steps to time for the projection (default 3)")
       ->check(CLI::NonNegativeNumber);
   add_threads_option(*cmd, opt->threads);
-  cmd->callback([opt]() { check(*opt); });
+  cmd->callback([opt, &exit_status]() { exit_status = check(*opt); });
 }
 
 }  // namespace ckpd

@@ -13,6 +13,7 @@
 
 #include "src/case/case_loader.hpp"
 #include "src/cli/cli_options.hpp"
+#include "src/cli/setup_interrupt.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/output/beta_report.hpp"
 #include "src/output/checkpoint.hpp"
@@ -87,12 +88,17 @@ nlohmann::ordered_json provenance(const RunOptions& opt) {
 
 int run(const RunOptions& opt) {
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  stop_on_signal_during_setup();
   const auto start = std::chrono::steady_clock::now();
   Scene scene = load_scene(opt.case_file, opt.overrides);
   Simulation sim(scene);
   if (!opt.restart.empty()) read_checkpoint(opt.restart, sim);
   const double setup_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // From here a signal finishes the step, writes a checkpoint and stops (the loop below).
+  stop_requested = 0;
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
   std::ostringstream setup;
   print_setup(sim, setup);
   if (!opt.quiet) std::cout << setup.str();
@@ -111,10 +117,15 @@ int run(const RunOptions& opt) {
     driver_options.log_header.push_back("override: --set " + o);
   driver_options.log_header.push_back(setup.str());
   driver_options.provenance = provenance(opt);
-  RunDriver driver(sim, driver_options);
-  stop_requested = 0;
-  std::signal(SIGINT, request_stop);
-  std::signal(SIGTERM, request_stop);
+  // An output folder that cannot be made or written is bad input too (exit 2), found before
+  // any step.
+  std::optional<RunDriver> driver_holder;
+  try {
+    driver_holder.emplace(sim, driver_options);
+  } catch (const std::runtime_error& e) {
+    throw CaseError(std::string("--out ") + e.what());
+  }
+  RunDriver& driver = *driver_holder;
   try {
     while (!driver.finished()) {
       driver.step();

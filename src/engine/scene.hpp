@@ -34,6 +34,7 @@ struct TimeSettings {
   double end_time = std::numeric_limits<double>::quiet_NaN();  // run until this time, or
   long long steps = -1;                                        // this many steps
   std::optional<double> dt;  // none: safety x the stable-step estimate
+  std::string dt_where;      // "case.yaml:12: time.dt", for errors about the case's dt
   double safety = 0.8;
   bool allow_unstable_dt = false;  // accept a dt above the estimate
 };
@@ -62,6 +63,8 @@ struct OutputSettings {
 struct Scene {
   std::string case_file;
   std::string fingerprint;  // of the case's physics (not its time or output settings)
+  std::string physics;      // the YAML the fingerprint hashes: a checkpoint keeps it, so that a
+                            // restart from another case can name the key that differs
   std::vector<SceneBody> bodies;
   ContactSettings contact;
   TimeSettings time;

@@ -115,6 +115,31 @@ StepChoice choose_time_step(const Scene& scene) {
   for (const ContactPairRadius& p : contact_pair_radii(scene)) {
     const double closing = initial_speed(scene.bodies[p.a]) + initial_speed(scene.bodies[p.b]);
     if (!(closing > 0)) continue;
+    // The penalty stops a point of density rho closing at v within l_c only if
+    // rho v^2 / 2 <= k l_c^2 / 2 (k: the point's contact stiffness bound, N/m^4). Faster, the
+    // bodies pass through each other however small dt is: a sphere at 1e6 m/s crossed a plate
+    // and the run "completed" with no damage, each body's own reach per step being small.
+    double stoppable = std::numeric_limits<double>::infinity();
+    std::string soft;
+    for (const std::size_t side : {p.a, p.b}) {
+      const SceneBody& sb = scene.bodies[side];
+      if (sb.rigid || !(contact_stiffness[side] > 0) || !(sb.body.density > 0)) continue;
+      const double v = p.radius * std::sqrt(contact_stiffness[side] / sb.body.density);
+      if (v < stoppable) {
+        stoppable = v;
+        soft = sb.body.name;
+      }
+    }
+    if (closing > stoppable && !scene.time.allow_unstable_dt) {
+      std::ostringstream msg;
+      msg << "bodies " << scene.bodies[p.a].body.name << "/" << scene.bodies[p.b].body.name
+          << " close at " << closing
+          << " m/s, faster than their contact can stop within l_c = " << p.radius
+          << " m (l_c sqrt(k / rho) = " << stoppable << " m/s for body '" << soft
+          << "'): they would pass through each other; lower the speed, raise contact.stiffness "
+          << "or contact.radius, or set time.allow_unstable_dt: true to run it anyway";
+      throw std::invalid_argument(msg.str());
+    }
     const double bound = kContactStepFraction * p.radius / closing;
     if (bound < c.speed_step) {
       c.speed_step = bound;
@@ -128,15 +153,17 @@ StepChoice choose_time_step(const Scene& scene) {
     c.user_dt = true;
     if (c.dt > c.estimate && !scene.time.allow_unstable_dt) {
       std::ostringstream msg;
-      msg << "time.dt = " << c.dt << " s exceeds the stable-step estimate " << c.estimate
-          << " s (limited by body '" << c.limiting_body << "'); lower it, use dt: auto, or set "
+      msg << (scene.time.dt_where.empty() ? "time.dt" : scene.time.dt_where) << " = " << c.dt
+          << " s exceeds the stable-step estimate " << c.estimate << " s (limited by body '"
+          << c.limiting_body << "'); lower it, use dt: auto, or set "
           << "time.allow_unstable_dt: true to force it";
       throw std::invalid_argument(msg.str());
     }
     if (c.dt > c.speed_step && !scene.time.allow_unstable_dt) {
       std::ostringstream msg;
-      msg << "time.dt = " << c.dt << " s exceeds the contact speed bound " << c.speed_step << " s ("
-          << kContactStepFraction << " x l_c = " << c.contact_radius << " m over the "
+      msg << (scene.time.dt_where.empty() ? "time.dt" : scene.time.dt_where) << " = " << c.dt
+          << " s exceeds the contact speed bound " << c.speed_step << " s (" << kContactStepFraction
+          << " x l_c = " << c.contact_radius << " m over the "
           << "closing speed " << c.closing_speed << " m/s of bodies " << c.speed_pair
           << "): contact could tunnel; lower it, use dt: auto, or set "
           << "time.allow_unstable_dt: true to force it";

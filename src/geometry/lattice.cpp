@@ -7,10 +7,17 @@
 
 #include "bodies/bond_family.hpp"
 #include "src/geometry/mesh/mesh_shape.hpp"
+#include "src/geometry/work_estimate.hpp"
 
 namespace ckpd {
 
 std::size_t lattice_family_size(int dimension, double spacing, double horizon) {
+  // The loop visits (2h + 3)^d offsets: refuse what the loaders should have refused already.
+  if (!(horizon > 0 && spacing > 0) ||
+      family_size_estimate(dimension, horizon / spacing) > 2 * kMaxFamilySize)
+    throw std::invalid_argument("horizon / spacing = " + std::to_string(horizon / spacing) +
+                                " gives a family of more than " +
+                                std::to_string(2 * kMaxFamilySize) + " lattice offsets");
   const int h = static_cast<int>(std::ceil(horizon / spacing)) + 1;
   const int zr = dimension == 3 ? h : 0;
   std::size_t count = 0;
@@ -28,20 +35,21 @@ LatticeSample sample_lattice(const Shape& shape, int dimension, double dx, doubl
     return mesh->sample(dx, horizon, max_points);
   const Bounds b = shape.bounds();
   if (!b.finite()) throw std::invalid_argument("a body's geometry must be bounded");
-  std::array<long long, 3> n{1, 1, 1};
-  double sites = 1;
-  for (int d = 0; d < dimension; ++d) {
-    // Cells across the extent, rounded: extents that are multiples of dx (up to round-off) get
-    // exactly that many cell-centred sites.
-    n[d] = std::max(1LL, static_cast<long long>(std::llround((b.hi[d] - b.lo[d]) / dx)));
-    sites *= static_cast<double>(n[d]);
-  }
-  if (sites > static_cast<double>(max_points)) {
+  // Counted in saturating arithmetic before any count is cast: an extent of 2e200 at 1 mm
+  // must be refused, not wrapped to a handful of sites.
+  const std::uint64_t sites = lattice_site_count(b, dimension, dx);
+  if (sites > max_points) {
     std::ostringstream msg;
-    msg << "sampling would consider about " << sites << " lattice sites, over the limit of "
-        << max_points << " (raise the limit or coarsen the spacing)";
+    msg << "sampling would consider " << (sites == kSaturated ? "" : "about ")
+        << format_count(sites) << " lattice sites, over the limit of " << max_points
+        << " (raise max_points or coarsen the spacing)";
     throw std::invalid_argument(msg.str());
   }
+  std::array<long long, 3> n{1, 1, 1};
+  for (int d = 0; d < dimension; ++d)
+    // Cells across the extent, rounded: extents that are multiples of dx (up to round-off) get
+    // exactly that many cell-centred sites. The count above bounds each factor.
+    n[d] = std::max(1LL, static_cast<long long>(std::llround((b.hi[d] - b.lo[d]) / dx)));
   const Vec3 centre = (b.lo + b.hi) / 2;
   LatticeSample s;
   const double cell = std::pow(dx, dimension);

@@ -25,6 +25,9 @@ class Shape {
   virtual Bounds bounds() const = 0;
 };
 
+// Shapes (bodies, obstacles, regions) lie within this distance of the origin, in m.
+inline constexpr double kMaxCoordinate = 1e6;
+
 using ShapeFactory = std::function<std::unique_ptr<Shape>(const CaseNode&, int dimension)>;
 
 // Registry: `register_shape("box", factory)` from the shape's own file.

@@ -1,6 +1,9 @@
 #include "src/input/case_node.hpp"
 
+#include <yaml-cpp/depthguard.h>
+
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <sstream>
 
@@ -12,6 +15,43 @@ namespace {
 
 std::string child_path(const std::string& parent, const std::string& key) {
   return parent.empty() ? key : parent + "." + key;
+}
+
+bool valid_utf8(const std::string& text) {
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    std::size_t extra = 0;
+    std::uint32_t code = 0;
+    if (c < 0x80) {
+      ++i;
+      continue;
+    } else if ((c & 0xE0) == 0xC0) {
+      extra = 1, code = c & 0x1F;
+    } else if ((c & 0xF0) == 0xE0) {
+      extra = 2, code = c & 0x0F;
+    } else if ((c & 0xF8) == 0xF0) {
+      extra = 3, code = c & 0x07;
+    } else {
+      return false;
+    }
+    if (i + extra >= text.size()) return false;
+    for (std::size_t k = 1; k <= extra; ++k) {
+      const auto d = static_cast<unsigned char>(text[i + k]);
+      if ((d & 0xC0) != 0x80) return false;
+      code = (code << 6) | (d & 0x3F);
+    }
+    // Overlong forms, surrogates and values past U+10FFFF are not UTF-8.
+    static constexpr std::uint32_t kMin[4] = {0, 0x80, 0x800, 0x10000};
+    if (code < kMin[extra] || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) return false;
+    i += extra + 1;
+  }
+  return true;
+}
+
+std::string line_of(const std::string& file, const YAML::Node& node) {
+  const YAML::Mark mark = node.Mark();
+  return mark.line >= 0 ? file + ":" + std::to_string(mark.line + 1) : file;
 }
 
 std::string node_text(const YAML::Node& node) {
@@ -145,7 +185,19 @@ double CaseNode::as_double() const {
     fail("a number");
   }
   if (used != text.size() || !std::isfinite(value)) fail("a finite number");
+  if (std::abs(value) > kMaxMagnitude) fail("a number of magnitude at most 1e30");
   return value;
+}
+
+double CaseNode::as_in_range(double lo, double hi, const std::string& what) const {
+  const double v = as_double();
+  if (!(v >= lo && v <= hi)) {
+    std::ostringstream s;
+    if (lo > 0 && !(v > 0)) s << "a positive number: ";
+    s << what << " from " << lo << " to " << hi;
+    fail(s.str());
+  }
+  return v;
 }
 
 double CaseNode::as_positive() const {
@@ -192,6 +244,16 @@ Vec3 CaseNode::as_vector(int dimension) const {
   return Vec3(v[0], v[1], dimension == 3 ? v[2] : 0.0);
 }
 
+Vec3 CaseNode::as_vector_below(int dimension, double limit, const std::string& what) const {
+  const Vec3 v = as_vector(dimension);
+  if (!(v.norm() < limit)) {
+    std::ostringstream s;
+    s << what << " of magnitude below " << limit << " (got " << v.norm() << ")";
+    fail(s.str());
+  }
+  return v;
+}
+
 void CaseNode::finish() const {
   if (!node_.IsMap()) return;
   for (const auto& kv : node_) {
@@ -209,6 +271,37 @@ void CaseNode::finish() const {
   }
 }
 
+void check_yaml_document(const YAML::Node& root, const std::string& file) {
+  // Iterative: a deeply nested document must not exhaust the stack here.
+  std::vector<std::pair<YAML::Node, std::string>> pending{{root, ""}};
+  while (!pending.empty()) {
+    const auto [node, path] = pending.back();
+    pending.pop_back();
+    if (node.IsScalar() && !valid_utf8(node.Scalar()))
+      throw CaseError(line_of(file, node) + ": " + (path.empty() ? "(top level)" : path) +
+                      ": the text is not valid UTF-8");
+    if (node.IsSequence()) {
+      for (std::size_t i = 0; i < node.size(); ++i)
+        pending.emplace_back(node[i], path + "[" + std::to_string(i) + "]");
+    } else if (node.IsMap()) {
+      std::set<std::string> seen;
+      for (const auto& kv : node) {
+        if (!kv.first.IsScalar())
+          throw CaseError(line_of(file, kv.first) + ": " + (path.empty() ? "(top level)" : path) +
+                          ": a key must be a plain name, not " + node_text(kv.first));
+        const std::string key = kv.first.Scalar();
+        if (!valid_utf8(key))
+          throw CaseError(line_of(file, kv.first) + ": " + (path.empty() ? "(top level)" : path) +
+                          ": a key that is not valid UTF-8");
+        if (!seen.insert(key).second)
+          throw CaseError(line_of(file, kv.first) + ": " + child_path(path, key) + ": key '" + key +
+                          "' given twice in the same map (the first value would win)");
+        pending.emplace_back(kv.second, child_path(path, key));
+      }
+    }
+  }
+}
+
 YAML::Node load_case_yaml(const std::string& file, const std::vector<std::string>& overrides,
                           std::vector<CaseNode::Override>* applied) {
   if (!std::filesystem::is_regular_file(file))
@@ -216,11 +309,17 @@ YAML::Node load_case_yaml(const std::string& file, const std::vector<std::string
   YAML::Node root;
   try {
     root = YAML::LoadFile(file);
+  } catch (const YAML::DeepRecursion& e) {
+    throw CaseError(file + ":" + std::to_string(e.mark.line + 1) + ": nested deeper than " +
+                    std::to_string(e.depth()) + " levels (a case file nests a few)");
   } catch (const YAML::ParserException& e) {
     throw CaseError(file + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
   } catch (const YAML::BadFile&) {
     throw CaseError(file + ": cannot read the case file");
+  } catch (const YAML::Exception& e) {
+    throw CaseError(file + ": cannot read the case file: " + e.what());
   }
+  check_yaml_document(root, file);
   if (!root.IsMap())
     throw CaseError(file + ": a case file is a map of sections (materials, bodies, ...)");
   apply_overrides(root, overrides, file, applied);

@@ -38,7 +38,12 @@ class CaseNode {
   bool is_sequence() const { return node_.IsSequence(); }
   bool is_scalar() const { return node_.IsScalar(); }
 
+  // Every number is finite and of magnitude at most kMaxMagnitude: SI values of any physical
+  // case are far inside, and products of a few such numbers (volumes, energies) stay finite.
+  static constexpr double kMaxMagnitude = 1e30;
   double as_double() const;
+  // A number in [lo, hi]; `what` says what it is ("a Young's modulus in Pa").
+  double as_in_range(double lo, double hi, const std::string& what) const;
   double as_positive() const;      // > 0 and finite
   double as_non_negative() const;  // >= 0 and finite
   long long as_integer() const;
@@ -46,6 +51,10 @@ class CaseNode {
   std::string as_string() const;
   // A list of `dimension` numbers; in 2D the z component is 0.
   Vec3 as_vector(int dimension) const;
+  // A vector whose length is below `limit`; `what` names it ("a velocity in m/s").
+  Vec3 as_vector_below(int dimension, double limit, const std::string& what) const;
+  // Speeds (m/s) are below the speed of light: an initial velocity of 1e300 gave null energies.
+  static constexpr double kMaxSpeed = 2.99792458e8;
   std::vector<double> as_doubles() const;
 
   // Throws for every key of this map that was never read.
@@ -80,6 +89,11 @@ class CaseNode {
   std::shared_ptr<const std::vector<Override>> overrides_;
   std::string override_;  // the --set text this node came from; "" when from the file
 };
+
+// Throws CaseError (file:line) for a key given twice in one map, a key that is not a plain
+// scalar (`? [a, b]`) and a scalar that is not valid UTF-8: yaml-cpp accepts all three, and the
+// first value of a duplicated key would silently win.
+void check_yaml_document(const YAML::Node& root, const std::string& file);
 
 // Loads a case file (throws CaseError for a missing file or a YAML syntax error, with the line)
 // and applies `--set key.path=value` overrides: each path must lead through existing maps and

@@ -1,6 +1,13 @@
 #include "src/output/checkpoint.hpp"
 
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <iomanip>
+#include <sstream>
 
 #include "src/output/hdf5_io.hpp"
 
@@ -8,8 +15,131 @@ namespace ckpd {
 
 namespace {
 
-constexpr const char* kFormat = "ckpd checkpoint 1";
+// Format 2 adds the content hash and the case's physics text (format 1 had neither: refused).
+constexpr const char* kFormat = "ckpd checkpoint 2";
 using hdf5::Handle;
+
+// FNV-1a (64 bit) over everything a restart restores, in a fixed order. Each step is a
+// bijection of the running value, so any change of a single byte changes the result; a
+// corrupted file that HDF5 still reads is refused by this, not restored.
+class ContentHash {
+ public:
+  void bytes(const void* data, std::size_t size) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < size; ++i) {
+      h_ ^= p[i];
+      h_ *= 1099511628211ull;
+    }
+  }
+  template <class T>
+  void value(const T& v) {
+    bytes(&v, sizeof v);
+  }
+  template <class T>
+  void vector(const std::vector<T>& v) {
+    value(v.size());
+    bytes(v.data(), v.size() * sizeof(T));
+  }
+  void text(const std::string& s) {
+    value(s.size());
+    bytes(s.data(), s.size());
+  }
+  std::string hex() const {
+    std::ostringstream s;
+    s << std::hex << std::setw(16) << std::setfill('0') << h_;
+    return s.str();
+  }
+
+ private:
+  std::uint64_t h_ = 1469598103934665603ull;
+};
+
+void hash_counters(ContentHash& h, double dt, const Simulation::Counters& c) {
+  h.value(dt);
+  h.value(c.time);
+  h.value(c.step);
+  h.value(c.external_work);
+  h.value(c.dissipated);
+  h.value(c.strain_energy);
+  h.value(c.initial_total);
+}
+
+void hash_body(ContentHash& h, const Body& body, std::size_t initially_failed) {
+  h.text(body.name);
+  h.value(initially_failed);
+  h.vector(body.displacement);
+  h.vector(body.velocity);
+  h.vector(body.acceleration);
+  h.vector(body.force_density);
+  h.vector(body.external_force_density);
+  h.vector(body.strain_energy_density);
+  h.vector(body.bond_intact);
+}
+
+std::string format_seconds(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+std::string node_summary(const YAML::Node& n) {
+  if (!n) return "absent";
+  if (n.IsScalar()) return "'" + n.Scalar() + "'";
+  std::string text = YAML::Dump(n);
+  for (char& c : text)
+    if (c == '\n') c = ' ';
+  if (text.size() > 60) text = text.substr(0, 57) + "...";
+  return text;
+}
+
+// The first key path where two physics documents differ, with both values.
+std::string first_difference(const YAML::Node& a, const YAML::Node& b, const std::string& path) {
+  const std::string here = path.empty() ? "(top level)" : path;
+  if (!a || !b || a.Type() != b.Type())
+    return here + ": " + node_summary(a) + " in the checkpoint, " + node_summary(b) + " here";
+  if (a.IsScalar())
+    return a.Scalar() == b.Scalar()
+               ? ""
+               : here + ": " + node_summary(a) + " in the checkpoint, " + node_summary(b) + " here";
+  if (a.IsSequence()) {
+    if (a.size() != b.size())
+      return here + ": a list of " + std::to_string(a.size()) + " in the checkpoint, of " +
+             std::to_string(b.size()) + " here";
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const std::string d = first_difference(a[i], b[i], path + "[" + std::to_string(i) + "]");
+      if (!d.empty()) return d;
+    }
+    return "";
+  }
+  if (a.IsMap()) {
+    for (const auto& kv : a) {
+      const std::string key = kv.first.Scalar();
+      const std::string d =
+          first_difference(kv.second, b[key], path.empty() ? key : path + "." + key);
+      if (!d.empty()) return d;
+    }
+    for (const auto& kv : b) {
+      const std::string key = kv.first.Scalar();
+      if (!a[key])
+        return (path.empty() ? key : path + "." + key) + ": absent in the checkpoint, " +
+               node_summary(kv.second) + " here";
+    }
+  }
+  return "";
+}
+
+template <class T>
+void require_finite(const std::string& path, const std::string& what, const std::vector<T>& v) {
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (!v[i].allFinite())
+      throw CheckpointError(path + ": " + what + " of point " + std::to_string(i) +
+                            " is not finite (corrupted checkpoint)");
+}
+
+void require_finite(const std::string& path, const std::string& what, double v) {
+  if (!std::isfinite(v))
+    throw CheckpointError(path + ": " + what + " is not finite (corrupted checkpoint)");
+}
 
 }  // namespace
 
@@ -20,8 +150,11 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
     Handle file(H5Fcreate(temp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
                 "create " + temp);
     const Simulation::Counters c = sim.counters();
+    ContentHash hash;
+    hash_counters(hash, sim.step_choice().dt, c);
     hdf5::write_string_attribute(file, "format", kFormat);
     hdf5::write_string_attribute(file, "case_fingerprint", sim.scene().fingerprint);
+    hdf5::write_string_attribute(file, "case_physics", sim.scene().physics);
     hdf5::write_double_attribute(file, "dt", sim.step_choice().dt);
     hdf5::write_double_attribute(file, "time", c.time);
     hdf5::write_int64_attribute(file, "step", c.step);
@@ -47,6 +180,7 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
       hdf5::write_doubles(group, "strain_energy_density", body.strain_energy_density.data(),
                           body.size(), 1);
       hdf5::write_bytes(group, "bond_intact", body.bond_intact);
+      hash_body(hash, body, c.initially_failed[b]);
       if (const auto& rigid = sim.scene().bodies[b].rigid) {
         const RigidMotion::State r = rigid->state();
         const double packed[13] = {
@@ -56,8 +190,10 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
             r.orientation.w(),      r.orientation.x(),      r.orientation.y(),
             r.orientation.z()};
         hdf5::write_doubles(group, "rigid_state", packed, 13, 1);
+        hash.bytes(packed, sizeof packed);
       }
     }
+    hdf5::write_string_attribute(file, "content_hash", hash.hex());
     if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0)
       throw std::runtime_error("HDF5: cannot flush " + temp);
   }
@@ -74,16 +210,31 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
     throw CheckpointError(path + ": not an HDF5 file (corrupted, or not a ckpd checkpoint)");
   try {
     Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "open " + path);
-    if (hdf5::read_string_attribute(file, "format") != kFormat)
-      throw CheckpointError(path + ": not a ckpd checkpoint of a known format");
-    if (hdf5::read_string_attribute(file, "case_fingerprint") != sim.scene().fingerprint)
+    const std::string format = hdf5::read_string_attribute(file, "format");
+    if (format == "ckpd checkpoint 1")
       throw CheckpointError(path +
-                            ": written by another case (its materials, bodies, "
-                            "conditions or contact differ from this one's)");
+                            ": written by an older ckpd (format 1, without checksums): "
+                            "run the case again from the start");
+    if (format != kFormat)
+      throw CheckpointError(path + ": not a ckpd checkpoint of a known format");
+    if (hdf5::read_string_attribute(file, "case_fingerprint") != sim.scene().fingerprint) {
+      std::string difference;
+      try {
+        difference = first_difference(YAML::Load(hdf5::read_string_attribute(file, "case_physics")),
+                                      YAML::Load(sim.scene().physics), "");
+      } catch (const std::exception&) {
+        difference = "";  // an unreadable record of the case: say only that it differs
+      }
+      throw CheckpointError(
+          path +
+          ": written by another case (its materials, bodies, "
+          "conditions or contact differ from this one's" +
+          (difference.empty() ? std::string(")") : "; first: " + difference + ")"));
+    }
     const double dt = hdf5::read_double_attribute(file, "dt");
     if (dt != sim.step_choice().dt)
-      throw CheckpointError(path + ": written with dt = " + std::to_string(dt) +
-                            " s, this case gives " + std::to_string(sim.step_choice().dt) +
+      throw CheckpointError(path + ": written with dt = " + format_seconds(dt) +
+                            " s, this case gives " + format_seconds(sim.step_choice().dt) +
                             " s (a restart must keep the time step)");
     Scene& scene = sim.scene();
     if (hdf5::read_int64_attribute(file, "bodies") != static_cast<long long>(scene.bodies.size()))
@@ -95,6 +246,20 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
     c.dissipated = hdf5::read_double_attribute(file, "dissipated");
     c.strain_energy = hdf5::read_double_attribute(file, "strain_energy");
     c.initial_total = hdf5::read_double_attribute(file, "initial_total");
+    // Value checks before the hash: they name what is wrong.
+    require_finite(path, "the time", c.time);
+    require_finite(path, "the external work", c.external_work);
+    require_finite(path, "the dissipated energy", c.dissipated);
+    require_finite(path, "the strain energy", c.strain_energy);
+    require_finite(path, "the initial total energy", c.initial_total);
+    // The time is the sum of `step` steps of dt, up to round-off.
+    if (c.step < 0 || !(c.time >= 0) ||
+        std::abs(c.time - static_cast<double>(c.step) * dt) > 1e-6 * std::max(c.time, dt))
+      throw CheckpointError(
+          path + ": step " + std::to_string(c.step) + " and time " + format_seconds(c.time) +
+          " s do not agree with dt = " + format_seconds(dt) + " s (corrupted checkpoint)");
+    ContentHash hash;
+    hash_counters(hash, dt, c);
     for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
       Body& body = scene.bodies[b].body;
       Handle group(H5Gopen2(file, ("body_" + std::to_string(b)).c_str(), H5P_DEFAULT), H5Gclose,
@@ -103,8 +268,12 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
           hdf5::read_int64_attribute(group, "points") != static_cast<long long>(body.size()))
         throw CheckpointError(path + ": body " + std::to_string(b) + " does not match '" +
                               body.name + "'");
-      c.initially_failed.push_back(
-          static_cast<std::size_t>(hdf5::read_int64_attribute(group, "initially_failed")));
+      const long long failed = hdf5::read_int64_attribute(group, "initially_failed");
+      if (failed < 0 || static_cast<unsigned long long>(failed) > body.bond_intact.size())
+        throw CheckpointError(path + ": body '" + body.name + "': initially_failed = " +
+                              std::to_string(failed) + " is not a bond count from 0 to " +
+                              std::to_string(body.bond_intact.size()) + " (corrupted checkpoint)");
+      c.initially_failed.push_back(static_cast<std::size_t>(failed));
       const std::size_t n = body.size();
       body.displacement = hdf5::read_vectors(group, "displacement", n);
       body.velocity = hdf5::read_vectors(group, "velocity", n);
@@ -113,13 +282,34 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
       body.external_force_density = hdf5::read_vectors(group, "external_force_density", n);
       body.strain_energy_density = hdf5::read_doubles(group, "strain_energy_density", n);
       body.bond_intact = hdf5::read_bytes(group, "bond_intact", body.bond_intact.size());
+      const std::string where = path + ": body '" + body.name + "'";
+      require_finite(where, "the displacement", body.displacement);
+      require_finite(where, "the velocity", body.velocity);
+      require_finite(where, "the acceleration", body.acceleration);
+      require_finite(where, "the force density", body.force_density);
+      require_finite(where, "the external force density", body.external_force_density);
+      for (std::size_t i = 0; i < n; ++i)
+        require_finite(where, "the strain-energy density of point " + std::to_string(i),
+                       body.strain_energy_density[i]);
+      for (std::size_t k = 0; k < body.bond_intact.size(); ++k)
+        if (body.bond_intact[k] > 1)
+          throw CheckpointError(where + ": bond_intact[" + std::to_string(k) +
+                                "] = " + std::to_string(body.bond_intact[k]) +
+                                ", not 0 (broken) or 1 (intact) (corrupted checkpoint)");
+      hash_body(hash, body, c.initially_failed.back());
       if (auto& rigid = scene.bodies[b].rigid) {
         // centre, velocity, angular momentum, orientation quaternion (w, x, y, z)
         const std::vector<double> p = hdf5::read_doubles(group, "rigid_state", 13);
+        for (double v : p) require_finite(where, "the rigid-body state", v);
+        hash.bytes(p.data(), p.size() * sizeof(double));
         rigid->restore({Vec3(p[0], p[1], p[2]), Vec3(p[3], p[4], p[5]), Vec3(p[6], p[7], p[8]),
                         Eigen::Quaterniond(p[9], p[10], p[11], p[12])});
       }
     }
+    if (hdf5::read_string_attribute(file, "content_hash") != hash.hex())
+      throw CheckpointError(path +
+                            ": the content hash does not match the stored one (the file "
+                            "was changed or corrupted after it was written)");
     sim.restore(c);
   } catch (const CheckpointError&) {
     throw;

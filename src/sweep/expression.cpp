@@ -22,11 +22,21 @@ using Node = Expression::Node;
 // Recursive descent: sum := product (('+'|'-') product)*; product := unary (('*'|'/') unary)*;
 // unary := '-' unary | '+' unary | power; power := atom ('^' unary)?; atom := number | name |
 // name '(' sum (',' sum)* ')' | '(' sum ')'. `-2^2` is -4 as in mathematics.
+// Nesting (parentheses, unary signs, powers, calls) is bounded by kMaxDepth and the length by
+// kMaxLength, so that neither the parser nor eval() can exhaust the stack: a sum of N terms is
+// a left-leaning tree N deep, and eval() recurses along it.
+constexpr std::size_t kMaxDepth = 200;
+constexpr std::size_t kMaxLength = 4096;
+constexpr std::size_t kMaxNodes = 1000;
+
 class Parser {
  public:
   Parser(const std::string& text, std::set<std::string>& names) : text_(text), names_(names) {}
 
   std::unique_ptr<Node> parse() {
+    if (text_.size() > kMaxLength)
+      throw ExpressionError("expression of " + std::to_string(text_.size()) +
+                            " characters: longer than the limit of " + std::to_string(kMaxLength));
     auto root = sum();
     skip();
     if (pos_ != text_.size()) fail("an operator or the end of the expression");
@@ -35,7 +45,9 @@ class Parser {
 
  private:
   [[noreturn]] void fail(const std::string& expected) const {
-    throw ExpressionError("expression '" + text_ + "': at character " + std::to_string(pos_ + 1) +
+    // A long expression is shown by its start only (the error names the position).
+    const std::string shown = text_.size() > 60 ? text_.substr(0, 57) + "..." : text_;
+    throw ExpressionError("expression '" + shown + "': at character " + std::to_string(pos_ + 1) +
                           ": expected " + expected);
   }
   void skip() {
@@ -49,8 +61,21 @@ class Parser {
     }
     return false;
   }
-  static std::unique_ptr<Node> binary(char op, std::unique_ptr<Node> a, std::unique_ptr<Node> b) {
-    auto n = std::make_unique<Node>();
+  // Entered on every nesting level (a parenthesis, a sign, a power, a call's argument).
+  struct Level {
+    Parser& p;
+    explicit Level(Parser& parser) : p(parser) {
+      if (++p.depth_ > kMaxDepth) p.fail("at most " + std::to_string(kMaxDepth) + " nested levels");
+    }
+    ~Level() { --p.depth_; }
+  };
+  std::unique_ptr<Node> node() {
+    if (++nodes_ > kMaxNodes)
+      fail("at most " + std::to_string(kMaxNodes) + " numbers, names and operators in all");
+    return std::make_unique<Node>();
+  }
+  std::unique_ptr<Node> binary(char op, std::unique_ptr<Node> a, std::unique_ptr<Node> b) {
+    auto n = node();
     n->op = op;
     n->args.push_back(std::move(a));
     n->args.push_back(std::move(b));
@@ -79,8 +104,9 @@ class Parser {
     }
   }
   std::unique_ptr<Node> unary() {
+    const Level level(*this);
     if (accept('-')) {
-      auto n = std::make_unique<Node>();
+      auto n = node();
       n->op = '~';
       n->args.push_back(unary());
       return n;
@@ -93,7 +119,7 @@ class Parser {
   std::unique_ptr<Node> atom() {
     skip();
     if (pos_ >= text_.size()) fail("a number, a name or '('");
-    auto n = std::make_unique<Node>();
+    auto n = node();
     const char c = text_[pos_];
     if (c == '(') {
       ++pos_;
@@ -152,6 +178,8 @@ class Parser {
   const std::string& text_;
   std::set<std::string>& names_;
   std::size_t pos_ = 0;
+  std::size_t depth_ = 0;
+  std::size_t nodes_ = 0;
 };
 
 double eval(const Node& n, const std::map<std::string, double>& values, const std::string& text) {

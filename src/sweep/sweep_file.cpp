@@ -31,6 +31,11 @@ Value make_value(double number) {
 
 namespace {
 
+// The most runs one sweep file resolves: each is a whole simulation, and resolving checks each
+// run's case (about a millisecond each), so 100,000 runs resolve in a few minutes at most. A
+// larger study is several sweep files. Ranges and samples are bounded by the same number.
+constexpr long long kMaxRuns = 100'000;
+
 const std::set<std::string> kReservedColumns{"index",  "description", "hash",        "folder",
                                              "status", "message",     "wall_seconds"};
 
@@ -145,7 +150,8 @@ Spec read_parameter(const std::string& name, const CaseNode& n, bool sampling) {
     } else {
       const CaseNode c = r.required("count");
       const long long count = c.as_integer();
-      if (count < 1 || count > 1000000) c.fail("a count from 1 to 1000000");
+      if (count < 1 || count > kMaxRuns)
+        c.fail("a count from 1 to " + std::to_string(kMaxRuns) + " (the most runs of a sweep)");
       if (count > 1 && from == to) fail_at(r, "a malformed range: from equals to");
       for (double x : log ? log_range(from, to, static_cast<int>(count))
                           : linear_range(from, to, static_cast<int>(count)))
@@ -325,7 +331,9 @@ Sweep load_sweep(const std::string& file) {
   if (auto s = root.optional("samples")) {
     if (!sampling) fail_at(*s, "samples only with combine: random or latin_hypercube");
     samples = s->as_integer();
-    if (samples < 1 || samples > 1000000) s->fail("a number of samples from 1 to 1000000");
+    if (samples < 1 || samples > kMaxRuns)
+      s->fail("a number of samples from 1 to " + std::to_string(kMaxRuns) +
+              " (the most runs of a sweep)");
   } else if (sampling) {
     throw SweepError(root.where() + ": combine: " + combine + " needs `samples` (and `seed`)");
   }
@@ -465,8 +473,9 @@ Sweep load_sweep(const std::string& file) {
     if (axes.empty()) fail_at(params, "at least one parameter with values, range or a table");
     double total = 1;
     for (const Axis& a : axes) total *= static_cast<double>(a.rows.size());
-    if (total > 1e7)
-      fail_at(params, "fewer than 10 million runs (the grid has " + format_number(total) + ")");
+    if (total > static_cast<double>(kMaxRuns))
+      fail_at(params, "at most " + std::to_string(kMaxRuns) + " runs (the grid has " +
+                          format_number(total) + "; split the study into several sweep files)");
     // The product, the first axis slowest (as nested loops in declaration order).
     std::vector<std::size_t> at(axes.size(), 0);
     for (;;) {

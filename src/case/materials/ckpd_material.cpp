@@ -14,8 +14,10 @@ namespace {
 class CkpdMaterial : public MaterialModel {
  public:
   explicit CkpdMaterial(const CaseNode& m) {
-    density_ = m.required("density").as_positive();
-    youngs_modulus_ = m.required("youngs_modulus").as_positive();
+    density_ = m.required("density").as_in_range(kMinDensity, kMaxDensity,
+                                                  "a density in kg/m^3 (kg/m^2 in 2D)");
+    youngs_modulus_ = m.required("youngs_modulus")
+                          .as_in_range(kMinModulus, kMaxModulus, "a Young's modulus in Pa");
     const CaseNode nu = m.required("poisson_ratio");
     poisson_ratio_ = nu.as_double();
     if (!(poisson_ratio_ > -1 && poisson_ratio_ < 0.5)) nu.fail("a Poisson's ratio in (-1, 0.5)");

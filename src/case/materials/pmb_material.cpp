@@ -1,6 +1,7 @@
 // `model: pmb`: the PMB bond model (bodies/pmb_model.hpp). Keys: density, micromodulus (c, N/m^6
 // in 3D, N/m^5 in 2D) and, for failure, critical_stretch (s0). The model's kernels are
 // instantiated here, once.
+#include <cmath>
 #include <optional>
 
 #include "bodies/force_model_kernels.hpp"
@@ -14,8 +15,11 @@ namespace {
 class PmbMaterial : public MaterialModel {
  public:
   explicit PmbMaterial(const CaseNode& m) {
-    density_ = m.required("density").as_positive();
+    density_ = m.required("density").as_in_range(kMinDensity, kMaxDensity,
+                                                  "a density in kg/m^3 (kg/m^2 in 2D)");
     micromodulus_ = m.required("micromodulus").as_positive();
+    if (!std::isfinite(micromodulus_) || micromodulus_ > 1e40)
+      m.required("micromodulus").fail("a micromodulus in N/m^6 of at most 1e40");
     if (auto s = m.optional("critical_stretch")) critical_stretch_ = s->as_positive();
   }
 

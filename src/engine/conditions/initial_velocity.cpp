@@ -28,7 +28,8 @@ const bool registered =
       const int dim = t.body.dimension;
       auto points = select_points(n.optional("region"), t);
       Vec3 value = Vec3::Zero(), omega = Vec3::Zero(), centre = Vec3::Zero();
-      if (auto v = n.optional("value")) value = v->as_vector(dim);
+      if (auto v = n.optional("value"))
+        value = v->as_vector_below(dim, CaseNode::kMaxSpeed, "a velocity in m/s");
       if (auto w = n.optional("angular_velocity")) {
         // In 2D the angular velocity is a scalar about z.
         omega = dim == 3 ? w->as_vector(3) : Vec3(0, 0, w->as_double());

@@ -3,6 +3,7 @@
 // ...]}`, src/engine/time_table.hpp), on all or some components. `fixed`: zero velocity.
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "src/engine/condition.hpp"
 #include "src/engine/time_table.hpp"
@@ -58,6 +59,12 @@ const bool velocity_registered =
       auto points = select_points(n.optional("region"), t);
       const CaseNode value_node = n.required("value");
       TimeTable value = read_vector_value(value_node, dim);
+      if (!(value.max_norm() < CaseNode::kMaxSpeed)) {
+        std::ostringstream s;
+        s << "a velocity in m/s of magnitude below " << CaseNode::kMaxSpeed << " (got "
+          << value.max_norm() << ")";
+        value_node.fail(s.str());
+      }
       const std::uint8_t components = read_prescribed_components(n.optional("components"), dim);
       double ramp = 0;
       if (auto r = n.optional("ramp_time")) {
