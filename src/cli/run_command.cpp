@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 
+#include "src/engine/contact_coupling.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/output/beta_report.hpp"
 #include "src/output/checkpoint.hpp"
@@ -55,6 +56,7 @@ void print_setup(const Simulation& sim, std::ostream& os) {
      << s.limiting_point << "), " << (s.user_dt ? "case dt " : "safety ") << s.safety
      << " x estimate -> dt " << s.dt << " s, " << sim.planned_steps() << " steps\n";
   if (std::isfinite(s.speed_step)) os << "  " << contact_speed_note(s) << '\n';
+  os << contact_law_report(sim.scene());
 }
 
 int run(const RunOptions& opt) {

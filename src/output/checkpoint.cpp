@@ -8,7 +8,9 @@ namespace ckpd {
 
 namespace {
 
-constexpr const char* kFormat = "ckpd checkpoint 1";
+// 2: rigid states carry the contact couple; the contact group holds the DEM laws' springs.
+constexpr const char* kFormat = "ckpd checkpoint 2";
+constexpr std::size_t kRigidState = 16;
 using hdf5::Handle;
 
 }  // namespace
@@ -49,13 +51,37 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
       hdf5::write_bytes(group, "bond_intact", body.bond_intact);
       if (const auto& rigid = sim.scene().bodies[b].rigid) {
         const RigidMotion::State r = rigid->state();
-        const double packed[13] = {
+        const double packed[kRigidState] = {
             r.centre.x(),           r.centre.y(),           r.centre.z(),
             r.velocity.x(),         r.velocity.y(),         r.velocity.z(),
             r.angular_momentum.x(), r.angular_momentum.y(), r.angular_momentum.z(),
             r.orientation.w(),      r.orientation.x(),      r.orientation.y(),
-            r.orientation.z()};
-        hdf5::write_doubles(group, "rigid_state", packed, 13, 1);
+            r.orientation.z(),      r.couple.x(),           r.couple.y(),
+            r.couple.z()};
+        hdf5::write_doubles(group, "rigid_state", packed, kRigidState, 1);
+      }
+    }
+    if (const ContactManager* contact = sim.contact()) {
+      // Evaluation count, dissipation and one row per spring: the pair's four indices (the
+      // wall partner's point as -1) and the spring.
+      const ContactManager::HistoryState h = contact->history();
+      Handle group(H5Gcreate2(file, "contact", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+                   "create contact group");
+      hdf5::write_int64_attribute(group, "evaluation", static_cast<long long>(h.evaluation));
+      hdf5::write_double_attribute(group, "damping_dissipated", h.damping_dissipated);
+      hdf5::write_double_attribute(group, "friction_dissipated", h.friction_dissipated);
+      hdf5::write_int64_attribute(group, "springs", static_cast<long long>(h.rows.size()));
+      if (!h.rows.empty()) {
+        std::vector<double> index;
+        std::vector<Vec3> spring;
+        for (const ContactHistoryRow& r : h.rows) {
+          const double partner = r.partner_point == kWallPartner ? -1.0 : r.partner_point;
+          index.insert(index.end(), {double(r.body), double(r.point), double(r.partner_body),
+                                     partner});
+          spring.push_back(r.spring);
+        }
+        hdf5::write_doubles(group, "spring_index", index.data(), h.rows.size(), 4);
+        hdf5::write_vectors(group, "spring", spring);
       }
     }
     if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0)
@@ -114,13 +140,37 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
       body.strain_energy_density = hdf5::read_doubles(group, "strain_energy_density", n);
       body.bond_intact = hdf5::read_bytes(group, "bond_intact", body.bond_intact.size());
       if (auto& rigid = scene.bodies[b].rigid) {
-        // centre, velocity, angular momentum, orientation quaternion (w, x, y, z)
-        const std::vector<double> p = hdf5::read_doubles(group, "rigid_state", 13);
+        // centre, velocity, angular momentum, orientation quaternion (w, x, y, z), couple
+        const std::vector<double> p = hdf5::read_doubles(group, "rigid_state", kRigidState);
         rigid->restore({Vec3(p[0], p[1], p[2]), Vec3(p[3], p[4], p[5]), Vec3(p[6], p[7], p[8]),
-                        Eigen::Quaterniond(p[9], p[10], p[11], p[12])});
+                        Eigen::Quaterniond(p[9], p[10], p[11], p[12]),
+                        Vec3(p[13], p[14], p[15])});
       }
     }
     sim.restore(c);
+    if (sim.contact()) {
+      Handle group(H5Gopen2(file, "contact", H5P_DEFAULT), H5Gclose, "open contact group");
+      ContactManager::HistoryState h;
+      h.evaluation = static_cast<std::uint64_t>(hdf5::read_int64_attribute(group, "evaluation"));
+      h.damping_dissipated = hdf5::read_double_attribute(group, "damping_dissipated");
+      h.friction_dissipated = hdf5::read_double_attribute(group, "friction_dissipated");
+      const auto rows = static_cast<std::size_t>(hdf5::read_int64_attribute(group, "springs"));
+      if (rows > 0) {
+        const std::vector<double> index = hdf5::read_doubles(group, "spring_index", 4 * rows);
+        const std::vector<Vec3> spring = hdf5::read_vectors(group, "spring", rows);
+        for (std::size_t r = 0; r < rows; ++r) {
+          const double* x = &index[4 * r];
+          h.rows.push_back({static_cast<std::uint32_t>(x[0]), static_cast<std::uint32_t>(x[1]),
+                            static_cast<std::uint32_t>(x[2]),
+                            x[3] < 0 ? kWallPartner : static_cast<std::uint32_t>(x[3]), spring[r]});
+        }
+      }
+      try {
+        sim.restore_contact(h);
+      } catch (const std::invalid_argument& e) {
+        throw CheckpointError(path + ": " + e.what());
+      }
+    }
   } catch (const CheckpointError&) {
     throw;
   } catch (const std::runtime_error& e) {

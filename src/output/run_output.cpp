@@ -19,8 +19,8 @@ namespace ckpd {
 
 HistoryWriter::HistoryWriter(const std::string& path, long long resume_after_step) : path_(path) {
   const char* header =
-      "step,time,kinetic,strain,contact,external_work,dissipated,balance_error,broken_bonds,"
-      "max_damage,inverted";
+      "step,time,kinetic,strain,contact,external_work,dissipated,contact_damping,"
+      "contact_friction,balance_error,broken_bonds,max_damage,inverted";
   std::vector<std::string> kept;
   if (resume_after_step >= 0) {
     std::ifstream in(path);
@@ -45,7 +45,7 @@ void HistoryWriter::write_row(const Simulation& sim) {
   const Energies e = sim.energies();
   out_ << std::setprecision(10) << sim.step() << ',' << sim.time() << ',' << e.kinetic << ','
        << e.strain << ',' << e.contact << ',' << e.external_work << ',' << e.dissipated << ','
-       << e.balance_error << ',' << sim.broken_bonds() << ',' << sim.max_damage() << ','
+       << e.contact_damping << ',' << e.contact_friction << ',' << e.balance_error << ',' << sim.broken_bonds() << ',' << sim.max_damage() << ','
        << sim.inverted() << '\n';
   out_.flush();
   if (!out_) throw std::runtime_error(path_ + ": writing the history failed");
@@ -161,7 +161,8 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
   const Energies e = sim.energies();
   j["energy"] = {{"kinetic", e.kinetic},       {"strain", e.strain},
                  {"contact", e.contact},       {"external_work", e.external_work},
-                 {"dissipated", e.dissipated}, {"balance_error", e.balance_error}};
+                 {"dissipated", e.dissipated}, {"contact_damping", e.contact_damping},
+                 {"contact_friction", e.contact_friction}, {"balance_error", e.balance_error}};
   j["inversion"] = inversion_summary(sim);
   j["bodies"] = bodies;
   j["contact"] = contact_summary(sim);
