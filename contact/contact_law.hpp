@@ -26,7 +26,7 @@ class DemLaw;
 
 // One body pair's contact constants, resolved.
 struct PairLaw {
-  std::string name = "repulsive";    // the law's registered name (dem_law.hpp)
+  std::string name = "repulsive";     // the law's registered name (dem_law.hpp)
   std::shared_ptr<const DemLaw> dem;  // null: the seed law above, on its own path
   double radius = 0;                  // l_c, m
   double stiffness = 0;               // Ccon, Pa (0 for a law without it)

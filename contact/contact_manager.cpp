@@ -199,8 +199,7 @@ void ContactManager::rebuild() {
       const PointSet& body = bodies_[p.body[s]].points;
       const Box3 zone = grown(tight[p.body[1 - s]], reach);
       for (std::size_t i = 0; i < body.size(); ++i)
-        if (inside(zone, body.position(i)))
-          p.members[s].push_back(static_cast<std::uint32_t>(i));
+        if (inside(zone, body.position(i))) p.members[s].push_back(static_cast<std::uint32_t>(i));
     }
   }
   // Overlapping boxes whose points are nowhere near each other cost nothing further.
@@ -317,9 +316,9 @@ void ContactManager::add_forces(double dt) {
             const bool first = target.body != partner_body ? target.body < partner_body : i < j;
             Vec3 previous = Vec3::Zero();
             if (law.friction > 0)
-              previous = first ? history_.find(evaluation_ - 1, target.body, i, partner_body, j)
-                               : Vec3(-history_.find(evaluation_ - 1, partner_body, j,
-                                                     target.body, i));
+              previous =
+                  first ? history_.find(evaluation_ - 1, target.body, i, partner_body, j)
+                        : Vec3(-history_.find(evaluation_ - 1, partner_body, j, target.body, i));
             const DemContact c = dem_contact(law, lc - distance, n, velocity, here,
                                              {vj, partner.mass(j)}, false, previous, dt);
             Contribution f{partner_body, j, c.force, 0.5 * c.energy};

@@ -34,8 +34,8 @@ std::optional<PairLaw> ContactSettings::law(const std::vector<ContactBody>& bodi
   auto pick = [&](std::optional<double> ContactConstants::*field) {
     return own && (own->constants.*field) ? own->constants.*field : global.*field;
   };
-  const std::string name = (own && own->constants.law ? own->constants.law : global.law)
-                               .value_or(kDefaultLaw);
+  const std::string name =
+      (own && own->constants.law ? own->constants.law : global.law).value_or(kDefaultLaw);
   const LawType* type = find_law(name);
   if (!type)
     throw std::invalid_argument("unknown contact law '" + name + "' (known: " + known_laws() + ")");
@@ -51,9 +51,10 @@ std::optional<PairLaw> ContactSettings::law(const std::vector<ContactBody>& bodi
   LawInputs inputs;
   inputs.radius = law.radius;
   for (const LawParameter& parameter : type->parameters) {
-    const ContactConstants* from = own && own->constants.parameters.count(parameter.key)
-                                       ? &own->constants
-                                       : (global.parameters.count(parameter.key) ? &global : nullptr);
+    const ContactConstants* from =
+        own && own->constants.parameters.count(parameter.key)
+            ? &own->constants
+            : (global.parameters.count(parameter.key) ? &global : nullptr);
     if (from)
       inputs.parameters[parameter.key] = from->parameters.at(parameter.key);
     else if (parameter.required)

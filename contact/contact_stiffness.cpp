@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
-#include <limits>
 #include <tuple>
 #include <utility>
 
@@ -101,14 +101,14 @@ std::vector<double> contact_stiffness_bounds(const ContactSettings& settings,
           const std::size_t point_side = bodies[a].wall ? b : a;
           if (!bodies[point_side].wall)
             k[point_side] = std::max(
-                k[point_side], dem_bound(*law->dem, law->radius, bodies[point_side].points,
-                                         nullptr, 1.0));
+                k[point_side],
+                dem_bound(*law->dem, law->radius, bodies[point_side].points, nullptr, 1.0));
           continue;
         }
-        k[a] = std::max(k[a], dem_bound(*law->dem, law->radius, bodies[a].points,
-                                        &bodies[b].points, partners(bodies[b])));
-        k[b] = std::max(k[b], dem_bound(*law->dem, law->radius, bodies[b].points,
-                                        &bodies[a].points, partners(bodies[a])));
+        k[a] = std::max(k[a], dem_bound(*law->dem, law->radius, bodies[a].points, &bodies[b].points,
+                                        partners(bodies[b])));
+        k[b] = std::max(k[b], dem_bound(*law->dem, law->radius, bodies[b].points, &bodies[a].points,
+                                        partners(bodies[a])));
         continue;
       }
       if (bodies[a].wall || bodies[b].wall) {

@@ -20,8 +20,8 @@ struct DemContact {
 // `normal`: unit, from b towards a; `velocity`: of a's material relative to b's at the contact
 // point; `previous`: the spring of the last step (zero for a new contact).
 inline DemContact dem_contact(const DemLaw& law, double overlap, const Vec3& normal,
-                              const Vec3& velocity, const LawPoint& a, const LawPoint& b,
-                              bool wall, const Vec3& previous, double dt) {
+                              const Vec3& velocity, const LawPoint& a, const LawPoint& b, bool wall,
+                              const Vec3& previous, double dt) {
   const NormalResponse r = law.normal(overlap, a, b, wall);
   const double vn = velocity.dot(normal);
   const double fn = r.force - r.damping * vn;
@@ -30,8 +30,8 @@ inline DemContact dem_contact(const DemLaw& law, double overlap, const Vec3& nor
   c.energy = r.energy;
   c.damping_power = r.damping * vn * vn;
   if (law.friction > 0) {
-    const TangentialStep t = tangential_step(previous, normal, velocity, dt,
-                                             r.tangential_stiffness, law.friction * std::max(fn, 0.0));
+    const TangentialStep t = tangential_step(previous, normal, velocity, dt, r.tangential_stiffness,
+                                             law.friction * std::max(fn, 0.0));
     c.force += t.force;
     c.spring = t.spring;
     c.energy += 0.5 * r.tangential_stiffness * t.spring.squaredNorm();

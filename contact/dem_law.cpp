@@ -25,10 +25,18 @@ const LawType* find_law(const std::string& name) {
   return it == law_registry().end() ? nullptr : &it->second;
 }
 
-bool valid_restitution(double e) { return e > 0 && e <= 1; }
-bool valid_non_negative(double x) { return x >= 0; }
-bool valid_positive(double x) { return x > 0; }
-bool valid_poisson(double x) { return x > -1 && x < 0.5; }
+bool valid_restitution(double e) {
+  return e > 0 && e <= 1;
+}
+bool valid_non_negative(double x) {
+  return x >= 0;
+}
+bool valid_positive(double x) {
+  return x > 0;
+}
+bool valid_poisson(double x) {
+  return x > -1 && x < 0.5;
+}
 
 LawParameter restitution_parameter() {
   return {"restitution", "a coefficient of restitution e in (0, 1]", true, 1, valid_restitution};

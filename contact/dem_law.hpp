@@ -75,7 +75,7 @@ struct LawParameter {
 
 struct LawInputs {
   std::map<std::string, std::vector<double>> parameters;  // resolved for the pair, validated
-  double radius = 0;       // l_c
+  double radius = 0;                                      // l_c
   double coefficient = 0;  // mean 9 Ccon/(pi delta^5) of the pair (laws that need a stiffness)
 };
 
@@ -97,12 +97,12 @@ std::string known_laws();
 const LawType* find_law(const std::string& name);
 
 // Parameter helpers for the law files.
-bool valid_restitution(double e);          // 0 < e <= 1
-bool valid_non_negative(double x);         // x >= 0
-bool valid_positive(double x);             // x > 0
-bool valid_poisson(double x);              // -1 < x < 0.5
-LawParameter restitution_parameter();      // `restitution`, required
-LawParameter friction_parameter();         // `friction`, optional, default 0
+bool valid_restitution(double e);      // 0 < e <= 1
+bool valid_non_negative(double x);     // x >= 0
+bool valid_positive(double x);         // x > 0
+bool valid_poisson(double x);          // -1 < x < 0.5
+LawParameter restitution_parameter();  // `restitution`, required
+LawParameter friction_parameter();     // `friction`, optional, default 0
 // value k of a parameter given as a scalar or a list of one value per side
 double side_value(const LawInputs& in, const std::string& key, std::size_t side);
 double value_or(const LawInputs& in, const std::string& key, double fallback);

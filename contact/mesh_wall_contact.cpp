@@ -15,8 +15,8 @@ namespace {
 // Force densities on the six carriers whose total force is `force` and whose total torque
 // about their centre is `torque`: each takes force/6; the torque about e_k comes from the
 // pair along the longer of the other two axes, pushed both ways across it.
-void spread_to_carriers(const PointSet& carriers, const MeshWall& wall, const Eigen::Matrix3d& rotation,
-                        const Vec3& force, const Vec3& torque) {
+void spread_to_carriers(const PointSet& carriers, const MeshWall& wall,
+                        const Eigen::Matrix3d& rotation, const Vec3& force, const Vec3& torque) {
   const WallCarriers& c = wall.carriers();
   Vec3 f[6];
   for (Vec3& x : f) x = force / 6;
@@ -107,22 +107,36 @@ void MeshWallContact::add_forces(double dt, std::uint64_t evaluation) {
           (p.coefficient * wall_force(hit->height, p.radius)) * (pose.rotation * hit->outward);
       point_energy_[i] = p.coefficient * body.volume[i] * wall_energy(hit->height, p.radius);
     }
-    // Serial sums in point order: the same totals on every thread count.
-    Vec3 reaction = Vec3::Zero(), torque = Vec3::Zero();
-    std::size_t touching = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (point_energy_[i] == 0 && force_[i].isZero()) continue;
-      ++touching;
-      body.force_density[i] += force_[i];
-      const Vec3 f = -body.volume[i] * force_[i];
-      reaction += f;
-      torque += (body.position(i) - pose.centre).cross(f);
-      energy_ += point_energy_[i];
-    }
-    pair_touching_[k] = touching > 0;
-    touching_ += touching;
-    if (touching) spread_to_carriers(carriers, wall, pose.rotation, reaction, torque);
+    book(k, pose, 0);
   }
+}
+
+void MeshWallContact::book(std::size_t k, const MeshWall::Pose& pose, double dt) {
+  const Pair& p = pairs_[k];
+  const PointSet& body = bodies_[p.body].points;
+  const bool dem = p.dem != nullptr;
+  // Serial sums in point order: the same totals on every thread count.
+  Vec3 reaction = Vec3::Zero(), torque = Vec3::Zero();
+  std::size_t touching = 0;
+  for (std::size_t i = 0; i < body.size(); ++i) {
+    if (point_energy_[i] == 0 && force_[i].isZero()) continue;
+    ++touching;
+    body.force_density[i] += force_[i];
+    const Vec3 f = -body.volume[i] * force_[i];
+    reaction += f;
+    // The seed law's reaction acts through the point, a DEM law's at the contact point.
+    torque += ((dem ? at_[i] : body.position(i)) - pose.centre).cross(f);
+    energy_ += point_energy_[i];
+    if (!dem) continue;
+    if (body.couple) *body.couple += couple_[i];
+    damping_ += dt * point_damping_[i];
+    friction_ += point_slip_[i];
+  }
+  pair_touching_[k] = touching > 0;
+  touching_ += touching;
+  if (touching)
+    spread_to_carriers(bodies_[p.wall].points, *bodies_[p.wall].wall, pose.rotation, reaction,
+                       torque);
 }
 
 void MeshWallContact::add_dem_forces(std::size_t k, double dt, std::uint64_t evaluation) {
@@ -152,11 +166,10 @@ void MeshWallContact::add_dem_forces(std::size_t k, double dt, std::uint64_t eva
     const Vec3 at = pose.rotation * (hit->point - c0) + pose.centre;
     // The wall's material at p moves as its carriers' rigid motion.
     const Vec3 velocity = body.velocity_at(i, at) - carriers.velocity_at(0, at);
-    const Vec3 previous =
-        history && stamp_[k][i] == evaluation - 1 ? spring_[k][i] : Vec3::Zero();
-    const DemContact c = dem_contact(law, p.radius - hit->height, normal, velocity,
-                                     {body.volume[i], body.mass(i)}, {0, kWallMass}, true,
-                                     previous, dt);
+    const Vec3 previous = history && stamp_[k][i] == evaluation - 1 ? spring_[k][i] : Vec3::Zero();
+    const DemContact c =
+        dem_contact(law, p.radius - hit->height, normal, velocity, {body.volume[i], body.mass(i)},
+                    {0, kWallMass}, true, previous, dt);
     force_[i] = c.force / body.volume[i];
     point_energy_[i] = c.energy;
     at_[i] = at;
@@ -168,23 +181,7 @@ void MeshWallContact::add_dem_forces(std::size_t k, double dt, std::uint64_t eva
       stamp_[k][i] = evaluation;
     }
   }
-  Vec3 reaction = Vec3::Zero(), torque = Vec3::Zero();
-  std::size_t touching = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (point_energy_[i] == 0 && force_[i].isZero()) continue;
-    ++touching;
-    body.force_density[i] += force_[i];
-    const Vec3 f = -body.volume[i] * force_[i];
-    reaction += f;
-    torque += (at_[i] - pose.centre).cross(f);
-    if (body.couple) *body.couple += couple_[i];
-    energy_ += point_energy_[i];
-    damping_ += dt * point_damping_[i];
-    friction_ += point_slip_[i];
-  }
-  pair_touching_[k] = touching > 0;
-  touching_ += touching;
-  if (touching) spread_to_carriers(carriers, wall, pose.rotation, reaction, torque);
+  book(k, pose, dt);
 }
 
 }  // namespace ckpd

@@ -17,15 +17,16 @@
 
 #include "contact/contact_history.hpp"
 #include "contact/contact_settings.hpp"
+#include "contact/mesh_wall.hpp"
 
 namespace ckpd {
 
 class MeshWallContact {
  public:
   struct Pair {
-    std::size_t body = 0, wall = 0;  // indices into the bodies
-    double radius = 0;               // l_c
-    double coefficient = 0;          // c = 9 Ccon / (pi delta^5) of the point's side
+    std::size_t body = 0, wall = 0;     // indices into the bodies
+    double radius = 0;                  // l_c
+    double coefficient = 0;             // c = 9 Ccon / (pi delta^5) of the point's side
     std::shared_ptr<const DemLaw> dem;  // null: the seed law integrated over the wall
   };
   // `bodies` as the contact manager holds them; walls have ContactBody::wall set.
@@ -46,6 +47,9 @@ class MeshWallContact {
 
  private:
   void add_dem_forces(std::size_t k, double dt, std::uint64_t evaluation);
+  // Adds pair k's point forces (force_, scratch of the pass) to the points, their reaction to
+  // the wall's carriers, and the energy and dissipation to the totals.
+  void book(std::size_t k, const MeshWall::Pose& pose, double dt);
   const std::vector<ContactBody>& bodies_;
   std::vector<Pair> pairs_;
   std::vector<Vec3> force_;  // scratch: per point of the pair's body, its force density

@@ -4,7 +4,8 @@
 
 namespace ckpd {
 
-void PointGrid::build(const PointSet& body, const std::vector<std::uint32_t>& members, double radius) {
+void PointGrid::build(const PointSet& body, const std::vector<std::uint32_t>& members,
+                      double radius) {
   const std::size_t n = members.size();
   point_.resize(n);
   position_.resize(n);

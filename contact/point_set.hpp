@@ -25,9 +25,9 @@ struct BondQuery {
 struct PointSet {
   std::string_view name;
   int dimension = 3;
-  double density = 0;  // kg/m^3 (3D), kg/m^2 (2D): point masses rho V^i
-  double horizon = 0;  // delta; 0 for a rigid body (none of its own)
-  double spacing = 0;  // lattice spacing dx: bounds how densely its points can sit
+  double density = 0;                  // kg/m^3 (3D), kg/m^2 (2D): point masses rho V^i
+  double horizon = 0;                  // delta; 0 for a rigid body (none of its own)
+  double spacing = 0;                  // lattice spacing dx: bounds how densely its points can sit
   std::span<const Vec3> reference;     // X^i
   std::span<const Vec3> displacement;  // u^i
   std::span<const Vec3> velocity;      // v^i

@@ -124,19 +124,18 @@ TEST_CASE("an unknown contact law is rejected with the known ones listed", "[cli
 TEST_CASE("a contact law's parameters are checked: e in (0, 1], mu >= 0, none missing",
           "[cli][contact][dem]") {
   const std::string dashpot = "{bodies: [ball, block], skin: 0.0005, law: linear_dashpot, ";
-  expect_rejected(replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}",
-                          dashpot + "restitution: 1.5}"),
-                  {"case.yaml:15: contact.pairs[0].restitution", "restitution e in (0, 1]",
-                   "'1.5'"});
-  expect_rejected(replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}",
-                          dashpot + "restitution: 0}"),
-                  {"case.yaml:15: contact.pairs[0].restitution", "(0, 1]"});
+  expect_rejected(
+      replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}", dashpot + "restitution: 1.5}"),
+      {"case.yaml:15: contact.pairs[0].restitution", "restitution e in (0, 1]", "'1.5'"});
+  expect_rejected(
+      replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}", dashpot + "restitution: 0}"),
+      {"case.yaml:15: contact.pairs[0].restitution", "(0, 1]"});
   expect_rejected(replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}",
                           dashpot + "restitution: 0.5, friction: -0.2}"),
                   {"case.yaml:15: contact.pairs[0].friction", "mu >= 0", "'-0.2'"});
-  expect_rejected(replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}",
-                          dashpot + "friction: 0.2}"),
-                  {"case.yaml:15: contact.pairs[0]", "`restitution` for contact law `linear_dashpot`"});
+  expect_rejected(
+      replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}", dashpot + "friction: 0.2}"),
+      {"case.yaml:15: contact.pairs[0]", "`restitution` for contact law `linear_dashpot`"});
   expect_rejected(
       replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}",
               "{bodies: [ball, block], law: hertz_mindlin, restitution: 0.5, poisson_ratio: 0.3}"),

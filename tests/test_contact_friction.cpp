@@ -8,9 +8,12 @@
 // - two free rigid balls in a glancing frictional collision conserve linear and angular
 //   momentum (spin included) to rounding;
 // - friction's dissipation is booked (contact_friction) and the balance stays closed.
+#include <omp.h>
+
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "base/parallel_policy.hpp"
 #include "dem_fixtures.hpp"
 
 using namespace ckpd;
@@ -24,7 +27,8 @@ Eigen::Matrix3d inertia_of(const Body& b, const Vec3& centre) {
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
   for (std::size_t i = 0; i < b.size(); ++i) {
     const Vec3 r = b.reference_position[i] - centre;
-    inertia += b.density * b.volume[i] * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+    inertia += b.density * b.volume[i] *
+               (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
   }
   return inertia;
 }
@@ -46,13 +50,14 @@ Rebound oblique(double angle, double mu, double e) {
   const Vec3 velocity(v * std::sin(angle), 0, -v * std::cos(angle));
   const Vec3 centre(0, 0, kBall + kLc + 3 * v * dt);
   std::vector<SceneBody> bodies;
-  bodies.push_back(rigid_points("ball", lattice_ball(centre, kBall, kDx), kDx * kDx * kDx, velocity, kDx));
+  bodies.push_back(
+      rigid_points("ball", lattice_ball(centre, kBall, kDx), kDx * kDx * kDx, velocity, kDx));
   bodies.push_back(flat_wall(0.05));
-  Scene scene = dem_scene(
-      std::move(bodies),
-      dem_settings("linear_dashpot", {{"restitution", {e}}, {"friction", {mu}}}, kLc,
-                   ccon_for_spring(k, kDx * kDx * kDx, kHorizon), kHorizon),
-      dt, 100000);
+  Scene scene =
+      dem_scene(std::move(bodies),
+                dem_settings("linear_dashpot", {{"restitution", {e}}, {"friction", {mu}}}, kLc,
+                             ccon_for_spring(k, kDx * kDx * kDx, kHorizon), kHorizon),
+                dt, 100000);
   Simulation sim(scene);
   const RigidMotion& ball = *scene.bodies[0].rigid;
   Rebound r;
@@ -144,13 +149,14 @@ TEST_CASE("a block on an inclined plane sticks below atan(mu) and slides with g 
       for (double y : {-1.0, 1.0}) corners.emplace_back(x * kDx, y * kDx, kLc - settled);
     std::vector<SceneBody> bodies;
     bodies.push_back(rigid_points("block", corners, volume, Vec3::Zero(), kDx));
-    bodies.back().conditions.push_back(std::make_unique<UniformAcceleration>(bodies.back().body, gravity));
+    bodies.back().conditions.push_back(
+        std::make_unique<UniformAcceleration>(bodies.back().body, gravity));
     bodies.push_back(flat_wall(1.0));
-    Scene scene = dem_scene(
-        std::move(bodies),
-        dem_settings("linear_dashpot", {{"restitution", {0.3}}, {"friction", {mu}}}, kLc,
-                     ccon_for_spring(k, volume, kHorizon), kHorizon),
-        dt, 1000000);
+    Scene scene =
+        dem_scene(std::move(bodies),
+                  dem_settings("linear_dashpot", {{"restitution", {0.3}}, {"friction", {mu}}}, kLc,
+                               ccon_for_spring(k, volume, kHorizon), kHorizon),
+                  dt, 1000000);
     Simulation sim(scene);
     const RigidMotion& block = *scene.bodies[0].rigid;
     const double t1 = 0.01, t2 = 0.03;
@@ -161,7 +167,8 @@ TEST_CASE("a block on an inclined plane sticks below atan(mu) and slides with g 
     while (sim.time() < t2) sim.advance(false);
     const double t = sim.time() - t1;
     const double acceleration = (block.velocity().x() - v1) / t;
-    INFO(degrees << " degrees: acceleration " << acceleration << ", moved " << block.centre().x() - x1);
+    INFO(degrees << " degrees: acceleration " << acceleration << ", moved "
+                 << block.centre().x() - x1);
     CHECK(std::abs(block.centre().z() - corners[0].z()) < 0.1 * kLc);  // still on the plane
     if (std::tan(a) < mu) {
       // Stuck: it moves no more than the tangential spring's give, far below sliding's.
@@ -172,24 +179,28 @@ TEST_CASE("a block on an inclined plane sticks below atan(mu) and slides with g 
   }
 }
 
-TEST_CASE("free rigid balls in a glancing frictional collision conserve linear and angular momentum",
-          "[contact][dem][friction]") {
+TEST_CASE(
+    "free rigid balls in a glancing frictional collision conserve linear and angular momentum",
+    "[contact][dem][friction]") {
   const double volume = kDx * kDx * kDx;
   for (const char* law : {"linear_dashpot", "hertz_mindlin"}) {
     std::vector<SceneBody> bodies;
     const double r = 2 * kDx;
     bodies.push_back(rigid_points("a", lattice_ball(Vec3(-r - 0.4 * kLc, 0.3 * r, 0.1 * r), r, kDx),
-                                  volume, Vec3(2, 0.3, 0), kDx, RigidMotion::Kind::free, Vec3(0, 0, 40)));
+                                  volume, Vec3(2, 0.3, 0), kDx, RigidMotion::Kind::free,
+                                  Vec3(0, 0, 40)));
     bodies.push_back(rigid_points("b", lattice_ball(Vec3(r + 0.4 * kLc, -0.3 * r, 0), r, kDx),
                                   volume, Vec3(-1, 0, 0.2), kDx));
-    std::map<std::string, std::vector<double>> parameters{{"restitution", {0.7}}, {"friction", {0.4}}};
+    std::map<std::string, std::vector<double>> parameters{{"restitution", {0.7}},
+                                                          {"friction", {0.4}}};
     if (std::string(law) == "hertz_mindlin") {
       parameters["youngs_modulus"] = {1e9};
       parameters["poisson_ratio"] = {0.3};
     }
     const double stiffness = ccon_for_spring(1e5, volume, kHorizon);
-    Scene scene = dem_scene(std::move(bodies),
-                            dem_settings(law, parameters, 2.2 * kLc, stiffness, kHorizon), 2e-7, 3000);
+    Scene scene =
+        dem_scene(std::move(bodies), dem_settings(law, parameters, 2.2 * kLc, stiffness, kHorizon),
+                  2e-7, 3000);
     Simulation sim(scene);
     auto momenta = [&](Vec3& p, Vec3& l) {
       p = l = Vec3::Zero();
@@ -218,4 +229,39 @@ TEST_CASE("free rigid balls in a glancing frictional collision conserve linear a
     CHECK(worst_p < 1e-12);
     CHECK(worst_l < 1e-12);
   }
+}
+
+TEST_CASE("DEM contact with friction gives the same bits on one and two threads, loops parallel",
+          "[contact][dem][friction]") {
+  // Two lattice balls of free rigid points against each other (point pairs, springs kept by the
+  // first end) and a wall (springs per point), every loop parallel.
+  const ScopedParallelThresholds every_loop_parallel(0);
+  const int before = omp_get_max_threads();
+  const double volume = kDx * kDx * kDx;
+  std::vector<Vec3> state[2];
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    std::vector<SceneBody> bodies;
+    bodies.push_back(rigid_points("a", lattice_ball(Vec3(-2.2e-3, 0, 2.3e-3), 2 * kDx, kDx), volume,
+                                  Vec3(2, 0, -1), kDx));
+    bodies.push_back(rigid_points("b", lattice_ball(Vec3(2.2e-3, 0.5e-3, 2.3e-3), 2 * kDx, kDx),
+                                  volume, Vec3(-2, 0, -1), kDx));
+    bodies.push_back(flat_wall(0.05));
+    Scene scene =
+        dem_scene(std::move(bodies),
+                  dem_settings("linear_dashpot", {{"restitution", {0.5}}, {"friction", {0.3}}},
+                               1.1 * kLc, ccon_for_spring(1e5, volume, kHorizon), kHorizon),
+                  2e-7, 800);
+    Simulation sim(scene);
+    while (sim.step() < sim.planned_steps()) sim.advance(false);
+    REQUIRE(sim.energies().contact_friction > 0);
+    for (const SceneBody& sb : scene.bodies) {
+      state[threads - 1].push_back(sb.rigid->velocity());
+      state[threads - 1].push_back(sb.rigid->state().angular_momentum);
+    }
+    state[threads - 1].push_back(Vec3(sim.energies().contact_damping,
+                                      sim.energies().contact_friction, sim.energies().contact));
+  }
+  omp_set_num_threads(before);
+  REQUIRE(state[0] == state[1]);
 }

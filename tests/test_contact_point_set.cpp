@@ -79,8 +79,8 @@ double all_pairs(const std::vector<RawPoints*>& sets, bool self_on_first,
       const RawPoints& B = *sets[b];
       for (std::size_t i = 0; i < A.reference.size(); ++i)
         for (std::size_t j = a == b ? i + 1 : 0; j < B.reference.size(); ++j) {
-          if (a == b && A.bonds.count({static_cast<std::uint32_t>(i),
-                                       static_cast<std::uint32_t>(j)}))
+          if (a == b &&
+              A.bonds.count({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)}))
             continue;
           const Vec3 d = A.x(i) - B.x(j);
           const double r = d.norm();
@@ -107,9 +107,7 @@ struct Blocks {
           a.bonds.insert({j, i});
         }
   }
-  std::vector<ContactBody> bodies() {
-    return {{a.view("a")}, {b.view("b")}, {c.view("c")}};
-  }
+  std::vector<ContactBody> bodies() { return {{a.view("a")}, {b.view("b")}, {c.view("c")}}; }
 };
 
 }  // namespace

@@ -21,15 +21,17 @@ struct Impact {
   double duration = 0;     // time with a point pair closer than l_c
   double deepest = 0;      // largest overlap l_c - r
   double largest_balance_error = 0;
-  double damping = 0;  // booked by the dashpot
+  double damping = 0;      // booked by the dashpot
   double energy_lost = 0;  // initial - final kinetic energy
 };
 
 // Two equal one-point spheres closing at 2 v0 along x, stepped until they have parted.
 Impact head_on(ContactSettings contact, double dt, double v0) {
   std::vector<SceneBody> bodies;
-  bodies.push_back(rigid_points("a", {Vec3(-0.5 * kLc - 2 * v0 * dt, 0, 0)}, kVolume, Vec3(v0, 0, 0)));
-  bodies.push_back(rigid_points("b", {Vec3(0.5 * kLc + 2 * v0 * dt, 0, 0)}, kVolume, Vec3(-v0, 0, 0)));
+  bodies.push_back(
+      rigid_points("a", {Vec3(-0.5 * kLc - 2 * v0 * dt, 0, 0)}, kVolume, Vec3(v0, 0, 0)));
+  bodies.push_back(
+      rigid_points("b", {Vec3(0.5 * kLc + 2 * v0 * dt, 0, 0)}, kVolume, Vec3(-v0, 0, 0)));
   Scene scene = dem_scene(std::move(bodies), std::move(contact), dt, 1000000);
   Simulation sim(scene);
   const RigidMotion& a = *scene.bodies[0].rigid;
@@ -83,7 +85,7 @@ TEST_CASE("hertz_mindlin: Hertz's force-overlap law, deepest overlap and contact
           "[contact][dem][hertz]") {
   const double young = 200e9, poisson = 0.3;
   const double modulus = 1 / (2 * (1 - poisson * poisson) / young);  // E*: two equal sides
-  const double radius = kLc / 4;                                    // R*: two spheres of l_c/2
+  const double radius = kLc / 4;                                     // R*: two spheres of l_c/2
   const ContactSettings elastic = dem_settings(
       "hertz_mindlin",
       {{"restitution", {1.0}}, {"youngs_modulus", {young}}, {"poisson_ratio", {poisson}}}, kLc);
@@ -91,8 +93,10 @@ TEST_CASE("hertz_mindlin: Hertz's force-overlap law, deepest overlap and contact
   SECTION("force against overlap, points held still") {
     for (double overlap : {1e-7, 1e-6, 1e-5, 1e-4}) {
       std::vector<SceneBody> bodies;
-      bodies.push_back(rigid_points("a", {Vec3(-0.5 * (kLc - overlap), 0, 0)}, kVolume, Vec3::Zero()));
-      bodies.push_back(rigid_points("b", {Vec3(0.5 * (kLc - overlap), 0, 0)}, kVolume, Vec3::Zero()));
+      bodies.push_back(
+          rigid_points("a", {Vec3(-0.5 * (kLc - overlap), 0, 0)}, kVolume, Vec3::Zero()));
+      bodies.push_back(
+          rigid_points("b", {Vec3(0.5 * (kLc - overlap), 0, 0)}, kVolume, Vec3::Zero()));
       Scene scene = dem_scene(std::move(bodies), elastic, 1e-9, 1);
       Simulation sim(scene);  // the first evaluation: forces at rest
       const double f = scene.bodies[1].body.force_density[0].x() * kVolume;

@@ -40,8 +40,7 @@ Vec3 angular_momentum(const Body& b, const Vec3& about) {
 
 }  // namespace
 
-TEST_CASE("a free rigid body under a constant force gains F t / M and no spin",
-          "[rigid_body]") {
+TEST_CASE("a free rigid body under a constant force gains F t / M and no spin", "[rigid_body]") {
   Body body = cloud(1);
   RigidMotion motion(body, RigidMotion::Kind::free, Vec3::Zero(), Vec3::Zero());
   double mass = 0;
@@ -52,7 +51,8 @@ TEST_CASE("a free rigid body under a constant force gains F t / M and no spin",
   const double dt = 1e-3;
   auto load = [&] {
     // Force density proportional to volume: total F, no torque about the mass centre.
-    for (std::size_t i = 0; i < body.size(); ++i) body.force_density[i] = force / (mass / body.density);
+    for (std::size_t i = 0; i < body.size(); ++i)
+      body.force_density[i] = force / (mass / body.density);
   };
   load();
   for (int s = 0; s < 100; ++s) {

@@ -49,8 +49,10 @@ const bool registered = register_law(
        valid_positive}},
      false,
      [](const LawInputs& in) -> std::shared_ptr<const DemLaw> {
-       const double e1 = side_value(in, "youngs_modulus", 0), e2 = side_value(in, "youngs_modulus", 1);
-       const double n1 = side_value(in, "poisson_ratio", 0), n2 = side_value(in, "poisson_ratio", 1);
+       const double e1 = side_value(in, "youngs_modulus", 0),
+                    e2 = side_value(in, "youngs_modulus", 1);
+       const double n1 = side_value(in, "poisson_ratio", 0),
+                    n2 = side_value(in, "poisson_ratio", 1);
        const double given = value_or(in, "effective_radius", 0);
        return std::make_shared<HertzMindlin>(
            hertz::effective_modulus(e1, n1, e2, n2), hertz::effective_shear_modulus(e1, n1, e2, n2),

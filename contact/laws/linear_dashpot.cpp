@@ -10,7 +10,9 @@ namespace {
 class LinearDashpot final : public DemLaw {
  public:
   LinearDashpot(double coefficient, double restitution, double mu, double ratio)
-      : coefficient_(coefficient), zeta_(linear_dashpot::damping_ratio(restitution)), ratio_(ratio) {
+      : coefficient_(coefficient),
+        zeta_(linear_dashpot::damping_ratio(restitution)),
+        ratio_(ratio) {
     friction = mu;
   }
   NormalResponse normal(double overlap, const LawPoint& a, const LawPoint& b,
@@ -33,8 +35,10 @@ class LinearDashpot final : public DemLaw {
 
 const bool registered = register_law(
     "linear_dashpot",
-    {"linear spring k = c V^i V^j with a dashpot from e, linear tangential spring, Coulomb friction",
-     {restitution_parameter(), friction_parameter(),
+    {"linear spring k = c V^i V^j with a dashpot from e, linear tangential spring, Coulomb "
+     "friction",
+     {restitution_parameter(),
+      friction_parameter(),
       {"tangential_stiffness_ratio", "k_t / k_n > 0 (default 2/7)", false, 1, valid_positive}},
      true,
      [](const LawInputs& in) -> std::shared_ptr<const DemLaw> {

@@ -13,7 +13,8 @@
 //
 //   m* delta'' + gamma delta' + k delta = 0,   delta(0) = 0,  delta'(0) = v_0.
 //
-// With omega_0 = sqrt(k / m*), zeta = gamma / (2 sqrt(k m*)) < 1, omega_d = omega_0 sqrt(1 - zeta^2):
+// With omega_0 = sqrt(k / m*), zeta = gamma / (2 sqrt(k m*)) < 1, omega_d = omega_0 sqrt(1 -
+// zeta^2):
 //
 //   delta(t) = v_0 / omega_d exp(-zeta omega_0 t) sin(omega_d t),
 //

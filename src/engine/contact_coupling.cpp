@@ -42,13 +42,12 @@ PointSet point_set(const SceneBody& sb) {
   p.displacement = body.displacement;
   p.velocity = body.velocity;
   p.volume = body.volume;
-  if (!body.family.offset.empty() && body.family.offset.back() > 0)
-    p.bonds = {&body, intact_bond};
+  if (!body.family.offset.empty() && body.family.offset.back() > 0) p.bonds = {&body, intact_bond};
   if (sb.rigid) {
     p.spins = true;
     p.angular_velocity = sb.rigid->angular_velocity();
-    p.rigid_mass = sb.rigid->prescribed() ? std::numeric_limits<double>::infinity()
-                                          : sb.rigid->mass();
+    p.rigid_mass =
+        sb.rigid->prescribed() ? std::numeric_limits<double>::infinity() : sb.rigid->mass();
   }
   return p;
 }
@@ -68,8 +67,7 @@ std::vector<ContactBody> contact_bodies(Scene& scene) {
 
 std::vector<ContactBody> contact_bodies(const Scene& scene) {
   std::vector<ContactBody> bodies;
-  for (const SceneBody& sb : scene.bodies)
-    bodies.push_back(contact_body(sb, point_set(sb)));
+  for (const SceneBody& sb : scene.bodies) bodies.push_back(contact_body(sb, point_set(sb)));
   return bodies;
 }
 
@@ -86,10 +84,10 @@ std::vector<ContactLawNote> contact_law_notes(const Scene& scene) {
   for (std::size_t a = 0; a < bodies.size(); ++a)
     for (std::size_t b = a; b < bodies.size(); ++b)
       if (const std::optional<PairLaw> law = scene.contact.law(bodies, a, b))
-        notes.push_back({std::string(bodies[a].points.name) + "/" +
-                             std::string(bodies[b].points.name),
-                         law->name, law->dem ? law->dem->friction : 0.0,
-                         law->dem ? law->dem->damping_ratio() : 0.0});
+        notes.push_back(
+            {std::string(bodies[a].points.name) + "/" + std::string(bodies[b].points.name),
+             law->name, law->dem ? law->dem->friction : 0.0,
+             law->dem ? law->dem->damping_ratio() : 0.0});
   return notes;
 }
 

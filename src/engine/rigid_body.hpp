@@ -88,7 +88,7 @@ class RigidMotion {
   Vec3 angular_momentum_ = Vec3::Zero();          // world axes (free)
   Vec3 imposed_angular_velocity_ = Vec3::Zero();  // prescribed
   Vec3 couple_ = Vec3::Zero();
-  std::vector<Vec3> previous_displacement_;       // scratch of first_half
+  std::vector<Vec3> previous_displacement_;  // scratch of first_half
 };
 
 // A body of points without bonds (no families, no interaction counts): what a rigid body needs.

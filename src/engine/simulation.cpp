@@ -42,7 +42,9 @@ void apply_prescribed_motion(SceneBody& sb, double t, bool velocity, bool accele
 }
 
 // Per-point loops over more points than this run in parallel (base/parallel_policy.hpp).
-std::size_t parallel_points() { return parallel_thresholds().engine_points; }
+std::size_t parallel_points() {
+  return parallel_thresholds().engine_points;
+}
 
 // Work increment of the external loads and reactions over a displacement increment dt*v:
 // V/2 f_ext . du with f_ext = rho a - (b_total - b_ext) (for a free component that is b_ext;

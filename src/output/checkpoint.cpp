@@ -51,13 +51,14 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
       hdf5::write_bytes(group, "bond_intact", body.bond_intact);
       if (const auto& rigid = sim.scene().bodies[b].rigid) {
         const RigidMotion::State r = rigid->state();
-        const double packed[kRigidState] = {
-            r.centre.x(),           r.centre.y(),           r.centre.z(),
-            r.velocity.x(),         r.velocity.y(),         r.velocity.z(),
-            r.angular_momentum.x(), r.angular_momentum.y(), r.angular_momentum.z(),
-            r.orientation.w(),      r.orientation.x(),      r.orientation.y(),
-            r.orientation.z(),      r.couple.x(),           r.couple.y(),
-            r.couple.z()};
+        const double packed[kRigidState] = {r.centre.x(),           r.centre.y(),
+                                            r.centre.z(),           r.velocity.x(),
+                                            r.velocity.y(),         r.velocity.z(),
+                                            r.angular_momentum.x(), r.angular_momentum.y(),
+                                            r.angular_momentum.z(), r.orientation.w(),
+                                            r.orientation.x(),      r.orientation.y(),
+                                            r.orientation.z(),      r.couple.x(),
+                                            r.couple.y(),           r.couple.z()};
         hdf5::write_doubles(group, "rigid_state", packed, kRigidState, 1);
       }
     }
@@ -76,8 +77,8 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
         std::vector<Vec3> spring;
         for (const ContactHistoryRow& r : h.rows) {
           const double partner = r.partner_point == kWallPartner ? -1.0 : r.partner_point;
-          index.insert(index.end(), {double(r.body), double(r.point), double(r.partner_body),
-                                     partner});
+          index.insert(index.end(),
+                       {double(r.body), double(r.point), double(r.partner_body), partner});
           spring.push_back(r.spring);
         }
         hdf5::write_doubles(group, "spring_index", index.data(), h.rows.size(), 4);
@@ -143,8 +144,7 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
         // centre, velocity, angular momentum, orientation quaternion (w, x, y, z), couple
         const std::vector<double> p = hdf5::read_doubles(group, "rigid_state", kRigidState);
         rigid->restore({Vec3(p[0], p[1], p[2]), Vec3(p[3], p[4], p[5]), Vec3(p[6], p[7], p[8]),
-                        Eigen::Quaterniond(p[9], p[10], p[11], p[12]),
-                        Vec3(p[13], p[14], p[15])});
+                        Eigen::Quaterniond(p[9], p[10], p[11], p[12]), Vec3(p[13], p[14], p[15])});
       }
     }
     sim.restore(c);

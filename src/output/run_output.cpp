@@ -45,8 +45,8 @@ void HistoryWriter::write_row(const Simulation& sim) {
   const Energies e = sim.energies();
   out_ << std::setprecision(10) << sim.step() << ',' << sim.time() << ',' << e.kinetic << ','
        << e.strain << ',' << e.contact << ',' << e.external_work << ',' << e.dissipated << ','
-       << e.contact_damping << ',' << e.contact_friction << ',' << e.balance_error << ',' << sim.broken_bonds() << ',' << sim.max_damage() << ','
-       << sim.inverted() << '\n';
+       << e.contact_damping << ',' << e.contact_friction << ',' << e.balance_error << ','
+       << sim.broken_bonds() << ',' << sim.max_damage() << ',' << sim.inverted() << '\n';
   out_.flush();
   if (!out_) throw std::runtime_error(path_ + ": writing the history failed");
 }
@@ -159,10 +159,14 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
   j["max_damage"] = sim.max_damage();
   j["broken_bonds"] = sim.broken_bonds();
   const Energies e = sim.energies();
-  j["energy"] = {{"kinetic", e.kinetic},       {"strain", e.strain},
-                 {"contact", e.contact},       {"external_work", e.external_work},
-                 {"dissipated", e.dissipated}, {"contact_damping", e.contact_damping},
-                 {"contact_friction", e.contact_friction}, {"balance_error", e.balance_error}};
+  j["energy"] = {{"kinetic", e.kinetic},
+                 {"strain", e.strain},
+                 {"contact", e.contact},
+                 {"external_work", e.external_work},
+                 {"dissipated", e.dissipated},
+                 {"contact_damping", e.contact_damping},
+                 {"contact_friction", e.contact_friction},
+                 {"balance_error", e.balance_error}};
   j["inversion"] = inversion_summary(sim);
   j["bodies"] = bodies;
   j["contact"] = contact_summary(sim);

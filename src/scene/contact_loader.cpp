@@ -30,8 +30,7 @@ void read_law_parameters(const CaseNode& n, const std::string& name, ContactCons
     std::vector<double> values;
     if (v->is_sequence() && parameter.max_values > 1) {
       values = v->as_doubles();
-      if (values.empty() || values.size() > parameter.max_values)
-        v->fail(parameter.expected);
+      if (values.empty() || values.size() > parameter.max_values) v->fail(parameter.expected);
     } else {
       values.push_back(v->as_double());
     }
@@ -65,8 +64,7 @@ void require_law_parameters(const CaseNode& n, const ContactConstants& here,
   for (const LawParameter& parameter : find_law(name)->parameters)
     if (parameter.required && !here.parameters.count(parameter.key) &&
         !(global && global->parameters.count(parameter.key)))
-      n.fail("`" + parameter.key + "` for contact law `" + name + "` (" + parameter.expected +
-             ")");
+      n.fail("`" + parameter.key + "` for contact law `" + name + "` (" + parameter.expected + ")");
 }
 
 std::size_t body_index(const CaseNode& name_node, const Scene& scene) {
