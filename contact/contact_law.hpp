@@ -17,13 +17,20 @@
 // coefficient (c_i + c_j)/2, and the power of the difference, (c_i - c_j)/2 (l_c - r) V^i V^j
 // e . (v^i + v^j), shows up in the energy balance error. Giving the pair a `horizon` makes both
 // sides use it: equal and opposite, conservative.
+#include <memory>
+#include <string>
+
 namespace ckpd {
+
+class DemLaw;
 
 // One body pair's contact constants, resolved.
 struct PairLaw {
-  double radius = 0;     // l_c, m
-  double stiffness = 0;  // Ccon, Pa
-  double skin = 0;       // broad-phase skin, m
+  std::string name = "repulsive";     // the law's registered name (dem_law.hpp)
+  std::shared_ptr<const DemLaw> dem;  // null: the seed law above, on its own path
+  double radius = 0;                  // l_c, m
+  double stiffness = 0;               // Ccon, Pa (0 for a law without it)
+  double skin = 0;                    // broad-phase skin, m
   // c = 9 Ccon / (pi delta^5) of the force that side 0 (the first body) and side 1 receive.
   double coefficient[2] = {0, 0};
   double mean_coefficient() const { return 0.5 * (coefficient[0] + coefficient[1]); }

@@ -3,7 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <tuple>
+
+#include "base/parallel_policy.hpp"
+#include "contact/dem_contact.hpp"
 
 namespace ckpd {
 
@@ -22,19 +27,15 @@ struct ContactManager::Target {
 
 namespace {
 
-// Below this much work (points or targets) a parallel region costs more than it saves, and on a
-// shared machine a descheduled thread stalls every barrier (measured: the per-step drift check
-// over a 16k-point disc took 6 ms per step on two threads of a loaded machine, 0.1 ms on one).
-constexpr std::size_t kParallelWork = 2048;
-// The drift check and the boxes stream through memory at a few ns per point: parallel only for
-// very many points.
-constexpr std::size_t kParallelScan = std::size_t{1} << 18;
+// Below parallel_thresholds().contact_work (points or targets) a parallel region costs more than
+// it saves, and on a shared machine a descheduled thread stalls every barrier; the drift check
+// and the boxes stream through memory and are parallel only above contact_scan points.
 
-Box3 bounding_box(const Body& body) {
+Box3 bounding_box(const PointSet& body) {
   Box3 box{Vec3::Constant(std::numeric_limits<double>::infinity()),
            Vec3::Constant(-std::numeric_limits<double>::infinity())};
   for (std::size_t i = 0; i < body.size(); ++i) {
-    const Vec3 x = body.current_position(i);
+    const Vec3 x = body.position(i);
     box.lo = box.lo.cwiseMin(x);
     box.hi = box.hi.cwiseMax(x);
   }
@@ -47,15 +48,6 @@ Box3 grown(const Box3& box, double by) {
 
 bool inside(const Box3& box, const Vec3& x) {
   return (x.array() >= box.lo.array()).all() && (x.array() <= box.hi.array()).all();
-}
-
-// True when i and j are joined by a bond that has not failed (families are sorted by index).
-bool intact_bond(const Body& body, std::uint32_t i, std::uint32_t j) {
-  const auto begin = body.family.neighbour.begin();
-  const auto first = begin + static_cast<std::ptrdiff_t>(body.family.offset[i]);
-  const auto last = begin + static_cast<std::ptrdiff_t>(body.family.offset[i + 1]);
-  const auto it = std::lower_bound(first, last, j);
-  return it != last && *it == j && body.bond_intact[static_cast<std::size_t>(it - begin)];
 }
 
 }  // namespace
@@ -74,7 +66,7 @@ ContactManager::ContactManager(std::vector<ContactBody> bodies, ContactSettings 
       for (std::size_t b = 0; b < n; ++b)
         if (b != a && !bodies_[b].wall)
           if (const auto law = settings_.law(bodies_, std::min(a, b), std::max(a, b)))
-            wall_pairs.push_back({b, a, law->radius, law->coefficient[b < a ? 0 : 1]});
+            wall_pairs.push_back({b, a, law->radius, law->coefficient[b < a ? 0 : 1], law->dem});
       continue;
     }
     if (const auto self = settings_.law(bodies_, a, a)) {
@@ -82,7 +74,7 @@ ContactManager::ContactManager(std::vector<ContactBody> bodies, ContactSettings 
       p.body[0] = p.body[1] = static_cast<std::uint32_t>(a);
       p.law = *self;
       p.self = true;
-      p.members[0].resize(bodies_[a].body->size());
+      p.members[0].resize(bodies_[a].points.size());
       for (std::size_t i = 0; i < p.members[0].size(); ++i)
         p.members[0][i] = static_cast<std::uint32_t>(i);
       self_pairs_.push_back(std::move(p));
@@ -104,8 +96,20 @@ ContactManager::ContactManager(std::vector<ContactBody> bodies, ContactSettings 
     drift_limit_[b] = margin_[b] - 0.5 * widest_radius[b];
     if (member[b]) {
       members_.push_back(b);
-      member_points_ += bodies_[b].body->size();
+      member_points_ += bodies_[b].points.size();
     }
+  }
+  // DEM laws anywhere (point pairs or walls): their bookkeeping and springs.
+  for (std::size_t a = 0; a < n; ++a)
+    for (std::size_t b = a; b < n; ++b)
+      if (const auto law = settings_.law(bodies_, a, b); law && law->dem) {
+        dem_ = true;
+        friction_ = friction_ || law->dem->friction > 0;
+      }
+  if (friction_) {
+    std::vector<std::size_t> points(n);
+    for (std::size_t b = 0; b < n; ++b) points[b] = bodies_[b].points.size();
+    history_.resize(points);
   }
   built_displacement_.resize(n);
   if (members_.size() >= 2) broad_ = std::make_unique<BroadPhase>(members_);
@@ -115,13 +119,47 @@ ContactManager::ContactManager(std::vector<ContactBody> bodies, ContactSettings 
 
 ContactManager::~ContactManager() = default;
 
+ContactManager::HistoryState ContactManager::history() const {
+  HistoryState s{evaluation_, damping_dissipated_, friction_dissipated_, {}};
+  if (friction_) s.rows = history_.rows(evaluation_);
+  if (walls_) {
+    const std::vector<ContactHistoryRow> w = walls_->history(evaluation_);
+    s.rows.insert(s.rows.end(), w.begin(), w.end());
+  }
+  return s;
+}
+
+void ContactManager::restore_history(const HistoryState& s) {
+  evaluation_ = s.evaluation;
+  damping_dissipated_ = s.damping_dissipated;
+  friction_dissipated_ = s.friction_dissipated;
+  std::vector<ContactHistoryRow> pairs, walls;
+  for (const ContactHistoryRow& r : s.rows)
+    (r.partner_point == kWallPartner ? walls : pairs).push_back(r);
+  if (friction_) history_.restore(evaluation_, pairs);
+  if (walls_) walls_->restore_history(evaluation_, walls);
+  if ((!pairs.empty() && !friction_) || (!walls.empty() && !walls_))
+    throw std::invalid_argument("contact history for pairs that have none in this case");
+}
+
+void ContactManager::rebind(const std::vector<PointSet>& points) {
+  if (points.size() != bodies_.size())
+    throw std::invalid_argument("contact: rebind with a different number of bodies");
+  for (std::size_t b = 0; b < points.size(); ++b) {
+    if (points[b].size() != bodies_[b].points.size())
+      throw std::invalid_argument("contact: rebind of body '" + std::string(points[b].name) +
+                                  "' with a different number of points");
+    bodies_[b].points = points[b];
+  }
+}
+
 bool ContactManager::drifted_beyond_skin() const {
   bool drifted = false;
-  const bool parallel = member_points_ > kParallelScan;
+  const bool parallel = member_points_ > parallel_thresholds().contact_scan;
 #pragma omp parallel for schedule(dynamic) reduction(|| : drifted) if (parallel)
   for (std::size_t m = 0; m < members_.size(); ++m) {
     const std::size_t b = members_[m];
-    const Body& body = *bodies_[b].body;
+    const PointSet& body = bodies_[b].points;
     const std::vector<Vec3>& built = built_displacement_[b];
     const double limit2 = drift_limit_[b] * drift_limit_[b];
     for (std::size_t i = 0; i < body.size(); ++i)
@@ -135,12 +173,13 @@ bool ContactManager::drifted_beyond_skin() const {
 
 void ContactManager::rebuild() {
   std::vector<Box3> tight(bodies_.size()), inflated(bodies_.size());
-#pragma omp parallel for schedule(dynamic) if (member_points_ > kParallelScan)
+#pragma omp parallel for schedule(dynamic) if (member_points_ > parallel_thresholds().contact_scan)
   for (std::size_t m = 0; m < members_.size(); ++m) {
     const std::size_t b = members_[m];
-    tight[b] = bounding_box(*bodies_[b].body);
+    tight[b] = bounding_box(bodies_[b].points);
     inflated[b] = grown(tight[b], margin_[b]);
-    built_displacement_[b] = bodies_[b].body->displacement;
+    built_displacement_[b].assign(bodies_[b].points.displacement.begin(),
+                                  bodies_[b].points.displacement.end());
   }
   pairs_.clear();
   for (const auto& [a, b] : broad_->overlapping_pairs(inflated)) {
@@ -157,11 +196,10 @@ void ContactManager::rebuild() {
     Pair& p = pairs_[k];
     const double reach = p.law.radius + drift_limit_[p.body[0]] + drift_limit_[p.body[1]];
     for (int s = 0; s < 2; ++s) {
-      const Body& body = *bodies_[p.body[s]].body;
+      const PointSet& body = bodies_[p.body[s]].points;
       const Box3 zone = grown(tight[p.body[1 - s]], reach);
       for (std::size_t i = 0; i < body.size(); ++i)
-        if (inside(zone, body.current_position(i)))
-          p.members[s].push_back(static_cast<std::uint32_t>(i));
+        if (inside(zone, body.position(i))) p.members[s].push_back(static_cast<std::uint32_t>(i));
     }
   }
   // Overlapping boxes whose points are nowhere near each other cost nothing further.
@@ -195,13 +233,15 @@ void ContactManager::index_targets() {
     ++targets_.back().ref_end;
   }
   target_energy_.assign(targets_.size(), 0);
+  if (dem_) target_dem_.assign(targets_.size(), {});
   target_contacts_.assign(targets_.size(), 0);
   target_tests_.assign(targets_.size(), 0);
   built_ = true;
 }
 
-void ContactManager::add_forces() {
+void ContactManager::add_forces(double dt) {
   const auto start = std::chrono::steady_clock::now();
+  ++evaluation_;
   if (!built_ || (broad_ && drifted_beyond_skin())) {
     if (broad_)
       rebuild();
@@ -210,12 +250,12 @@ void ContactManager::add_forces() {
   }
   // Bin both sides of every pair (one side for self-contact) at the current positions.
   const std::size_t sides = 2 * all_pairs_.size();
-#pragma omp parallel for schedule(dynamic) if (targets_.size() > kParallelWork)
+#pragma omp parallel for schedule(dynamic) if (targets_.size() > parallel_thresholds().contact_work)
   for (std::size_t t = 0; t < sides; ++t) {
     Pair& p = *all_pairs_[t / 2];
     const int s = static_cast<int>(t % 2);
     if (p.self && s == 1) continue;
-    p.grid[s].build(*bodies_[p.body[s]].body, p.members[s], p.law.radius);
+    p.grid[s].build(bodies_[p.body[s]].points, p.members[s], p.law.radius);
   }
   for (const Pair* p : all_pairs_)
     stats_.points_binned += p->members[0].size() + (p->self ? 0 : p->members[1].size());
@@ -224,12 +264,17 @@ void ContactManager::add_forces() {
   // Each point sums its partners in (body, point) order, whatever the cell lists look like, so a
   // point's force does not depend on which points the last rebuild kept (a run restarted from
   // a checkpoint rebuilds at once and must continue bit for bit).
-#pragma omp parallel if (targets_.size() > kParallelWork / 4)
+#pragma omp parallel if (targets_.size() > parallel_thresholds().contact_work / 4)
   {
     struct Contribution {
       std::uint32_t body, point;
       Vec3 force;
       double energy;
+      // DEM laws only (zero for the seed law): half of each, as the energy.
+      double damping_power = 0, slip_work = 0;
+      Vec3 couple = Vec3::Zero();  // (contact point - x^i) x F, for a spinning body
+      Vec3 spring = Vec3::Zero();  // the pair's tangential history, in this end's sense
+      bool writes_history = false;
       bool operator<(const Contribution& o) const {
         return body != o.body ? body < o.body : point < o.point;
       }
@@ -238,9 +283,9 @@ void ContactManager::add_forces() {
 #pragma omp for schedule(dynamic, 64)
     for (std::size_t t = 0; t < targets_.size(); ++t) {
       const Target& target = targets_[t];
-      Body& body = *bodies_[target.body].body;
+      const PointSet& body = bodies_[target.body].points;
       const std::uint32_t i = target.point;
-      const Vec3 xi = body.current_position(i);
+      const Vec3 xi = body.position(i);
       const double vi = body.volume[i];
       std::uint32_t tests = 0;
       found.clear();
@@ -250,6 +295,44 @@ void ContactManager::add_forces() {
         const int side = static_cast<int>(target_refs_[r] % 2);
         const int other = p.self ? 0 : 1 - side;
         const double lc = p.law.radius, c = p.law.coefficient[side];
+        if (p.law.dem) {
+          // A DEM law (dem_law.hpp): both ends of a pair compute the same contact from the same
+          // history, each with its own sign (tangential_spring.hpp), and the end that comes
+          // first in (body, point) order writes the new history.
+          const DemLaw& law = *p.law.dem;
+          const std::uint32_t partner_body = p.body[other];
+          const PointSet& partner = bodies_[partner_body].points;
+          const LawPoint here{vi, body.mass(i)};
+          p.grid[other].for_each_near(xi, [&](std::uint32_t j, const Vec3& xj, double vj) {
+            ++tests;
+            const Vec3 d = xi - xj;
+            const double r2 = d.squaredNorm();
+            if (r2 >= lc * lc || r2 == 0) return;
+            if (p.self && body.bonded(i, j)) return;
+            const double distance = std::sqrt(r2);
+            const Vec3 n = d / distance;
+            const Vec3 at = 0.5 * (xi + xj);
+            const Vec3 velocity = body.velocity_at(i, at) - partner.velocity_at(j, at);
+            const bool first = target.body != partner_body ? target.body < partner_body : i < j;
+            Vec3 previous = Vec3::Zero();
+            if (law.friction > 0)
+              previous =
+                  first ? history_.find(evaluation_ - 1, target.body, i, partner_body, j)
+                        : Vec3(-history_.find(evaluation_ - 1, partner_body, j, target.body, i));
+            const DemContact c = dem_contact(law, lc - distance, n, velocity, here,
+                                             {vj, partner.mass(j)}, false, previous, dt);
+            Contribution f{partner_body, j, c.force, 0.5 * c.energy};
+            f.damping_power = 0.5 * c.damping_power;
+            f.slip_work = 0.5 * c.slip_work;
+            if (body.spins) f.couple = (at - xi).cross(c.force);
+            f.spring = c.spring;
+            f.writes_history = first && law.friction > 0;
+            found.push_back(f);
+#pragma omp atomic write
+            pair_touching_[pair] = 1;
+          });
+          continue;
+        }
         // Each point pair is met from both ends; each end books half its energy.
         const double quarter_mean = 0.25 * p.law.mean_coefficient();
         p.grid[other].for_each_near(xi, [&](std::uint32_t j, const Vec3& xj, double vj) {
@@ -258,7 +341,7 @@ void ContactManager::add_forces() {
           const double r2 = d.squaredNorm();
           if (r2 >= lc * lc || r2 == 0) return;
           // Distance first: the bond lookup is the dearer test, and most pairs fail the other.
-          if (p.self && intact_bond(body, i, j)) return;
+          if (p.self && body.bonded(i, j)) return;
           const double distance = std::sqrt(r2), gap = lc - distance;
           const double volumes = vi * vj;
           found.push_back({p.body[other], j, (c * gap / distance * volumes) * d,
@@ -275,6 +358,19 @@ void ContactManager::add_forces() {
         energy += f.energy;
       }
       body.force_density[i] += force / vi;
+      if (dem_) {
+        DemTotals& totals = target_dem_[t];
+        totals = {};
+        std::vector<PairHistory::Entry>* written = nullptr;
+        for (const Contribution& f : found) {
+          totals.damping += f.damping_power;
+          totals.friction += f.slip_work;
+          totals.couple += f.couple;
+          if (!f.writes_history) continue;
+          if (!written) written = &history_.start(evaluation_, target.body, i);
+          written->push_back({f.body, f.point, f.spring});
+        }
+      }
       target_energy_[t] = energy;
       target_contacts_[t] = static_cast<std::uint32_t>(found.size());
       target_tests_[t] = tests;
@@ -288,11 +384,22 @@ void ContactManager::add_forces() {
     contacts += target_contacts_[t];
     stats_.point_pair_tests += target_tests_[t];
   }
+  if (dem_) {
+    double damping = 0;
+    for (std::size_t t = 0; t < targets_.size(); ++t) {
+      damping += target_dem_[t].damping;
+      friction_dissipated_ += target_dem_[t].friction;
+      if (Vec3* couple = bodies_[targets_[t].body].points.couple) *couple += target_dem_[t].couple;
+    }
+    damping_dissipated_ += dt * damping;
+  }
   stats_.points_in_contact = contacts / 2;
   std::size_t wall_touching = 0;
   if (walls_) {
-    walls_->add_forces();
+    walls_->add_forces(dt, evaluation_);
     energy_ += walls_->energy();
+    damping_dissipated_ += walls_->damping_dissipated();
+    friction_dissipated_ += walls_->friction_dissipated();
     stats_.points_in_contact += walls_->points_in_contact();
     for (std::size_t k = 0; k < walls_->pairs(); ++k) wall_touching += walls_->pair_touching(k);
   }

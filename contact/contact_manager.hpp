@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "contact/broad_phase.hpp"
+#include "contact/contact_history.hpp"
 #include "contact/contact_settings.hpp"
 #include "contact/mesh_wall_contact.hpp"
 #include "contact/point_grid.hpp"
@@ -47,16 +48,37 @@ struct ContactStatistics {
 
 class ContactManager {
  public:
-  // `bodies` must outlive the manager. Throws std::invalid_argument like ContactSettings::law.
+  // The arrays behind the views must stay valid until the next rebind. Throws
+  // std::invalid_argument like ContactSettings::law.
   ContactManager(std::vector<ContactBody> bodies, ContactSettings settings);
   ~ContactManager();
 
-  // Adds every point's contact force density to its body's force_density (at the current
-  // positions) and sets energy().
-  void add_forces();
+  // New views of the same bodies (same order and sizes): the owner calls it whenever the arrays
+  // behind the views may have moved (the engine does before every evaluation).
+  void rebind(const std::vector<PointSet>& points);
+
+  // Adds every point's contact force density to its view's force_density (at the current
+  // positions) and sets energy(). `dt`: the time since the last evaluation (0 for the first),
+  // over which DEM laws advance their tangential springs and book their dissipation; the
+  // velocities in the views are those of that interval (the integrator's midpoint velocities).
+  void add_forces(double dt = 0);
   // Contact energy at the last add_forces: sum over point pairs of c V^i V^j (l_c - r)^2 / 2
-  // (see contact_law.hpp for c when the two sides differ).
+  // (see contact_law.hpp for c when the two sides differ); for DEM laws their elastic energy
+  // and that of the tangential springs.
   double energy() const { return energy_; }
+  // Energy dissipated so far by the DEM laws' dashpots and by friction (sliding).
+  double damping_dissipated() const { return damping_dissipated_; }
+  double friction_dissipated() const { return friction_dissipated_; }
+  // Whether any pair has a tangential history (a DEM law with friction).
+  bool has_history() const { return friction_; }
+  // What a checkpoint keeps: with every view's state, restoring it continues bit for bit.
+  struct HistoryState {
+    std::uint64_t evaluation = 0;
+    double damping_dissipated = 0, friction_dissipated = 0;
+    std::vector<ContactHistoryRow> rows;
+  };
+  HistoryState history() const;
+  void restore_history(const HistoryState& state);
   const ContactStatistics& statistics() const { return stats_; }
   // Whether any pair of distinct bodies can interact (else no broad phase exists).
   bool has_broad_phase() const { return broad_ != nullptr; }
@@ -87,6 +109,16 @@ class ContactManager {
   std::vector<std::uint8_t> pair_touching_;  // per pair of all_pairs_, this evaluation
   bool built_ = false;
   double energy_ = 0;
+  // DEM laws: per target its dissipation and couple this evaluation; the springs.
+  struct DemTotals {
+    double damping = 0, friction = 0;
+    Vec3 couple = Vec3::Zero();
+  };
+  bool dem_ = false, friction_ = false;
+  std::vector<DemTotals> target_dem_;
+  PairHistory history_;
+  std::uint64_t evaluation_ = 0;
+  double damping_dissipated_ = 0, friction_dissipated_ = 0;
   ContactStatistics stats_;
 };
 

@@ -5,6 +5,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "contact/dem_law.hpp"
+
 namespace ckpd {
 
 double contact_coefficient(double stiffness, double horizon) {
@@ -32,27 +34,54 @@ std::optional<PairLaw> ContactSettings::law(const std::vector<ContactBody>& bodi
   auto pick = [&](std::optional<double> ContactConstants::*field) {
     return own && (own->constants.*field) ? own->constants.*field : global.*field;
   };
+  const std::string name =
+      (own && own->constants.law ? own->constants.law : global.law).value_or(kDefaultLaw);
+  const LawType* type = find_law(name);
+  if (!type)
+    throw std::invalid_argument("unknown contact law '" + name + "' (known: " + known_laws() + ")");
   const std::optional<double> stiffness = pick(&ContactConstants::stiffness);
-  if (!stiffness) return std::nullopt;
+  if (type->needs_stiffness && !stiffness) return std::nullopt;
   PairLaw law;
-  law.stiffness = *stiffness;
+  law.name = name;
+  law.stiffness = stiffness.value_or(0);
   law.radius = pick(&ContactConstants::radius)
-                   .value_or(kDefaultRadiusRatio * std::max(A.spacing, B.spacing));
+                   .value_or(kDefaultRadiusRatio * std::max(A.points.spacing, B.points.spacing));
   law.skin = pick(&ContactConstants::skin).value_or(law.radius);
+  // The law's parameters: the global ones it knows, overridden by the pair's own.
+  LawInputs inputs;
+  inputs.radius = law.radius;
+  for (const LawParameter& parameter : type->parameters) {
+    const ContactConstants* from =
+        own && own->constants.parameters.count(parameter.key)
+            ? &own->constants
+            : (global.parameters.count(parameter.key) ? &global : nullptr);
+    if (from)
+      inputs.parameters[parameter.key] = from->parameters.at(parameter.key);
+    else if (parameter.required)
+      throw std::invalid_argument("contact law '" + name + "' needs `" + parameter.key + "` (" +
+                                  parameter.expected + ")");
+  }
+  auto finish = [&]() -> std::optional<PairLaw> {
+    inputs.coefficient = law.mean_coefficient();
+    law.dem = type->make(inputs);
+    return law;
+  };
+  if (!type->needs_stiffness) return finish();
   if (const auto h = pick(&ContactConstants::horizon)) {
     law.coefficient[0] = law.coefficient[1] = contact_coefficient(law.stiffness, *h);
-    return law;
+    return finish();
   }
   // A rigid receiver has no horizon of its own and uses its partner's, so a rigid and a
   // deformable body always exchange equal and opposite forces.
-  const double ha = A.rigid ? B.body->horizon : A.body->horizon;
-  const double hb = B.rigid ? A.body->horizon : B.body->horizon;
+  const double ha = A.rigid ? B.points.horizon : A.points.horizon;
+  const double hb = B.rigid ? A.points.horizon : B.points.horizon;
   if (!(ha > 0) || !(hb > 0))
-    throw std::invalid_argument("contact between rigid bodies '" + A.body->name + "' and '" +
-                                B.body->name + "' needs a horizon (delta of 9 Ccon/(pi delta^5))");
+    throw std::invalid_argument("contact between rigid bodies '" + std::string(A.points.name) +
+                                "' and '" + std::string(B.points.name) +
+                                "' needs a horizon (delta of 9 Ccon/(pi delta^5))");
   law.coefficient[0] = contact_coefficient(law.stiffness, ha);
   law.coefficient[1] = contact_coefficient(law.stiffness, hb);
-  return law;
+  return finish();
 }
 
 }  // namespace ckpd

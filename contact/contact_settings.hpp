@@ -2,22 +2,22 @@
 // Contact as a case file asks for it: constants given globally and per body pair, and which
 // bodies have self-contact; resolved into one PairLaw per interacting pair of bodies.
 #include <cstddef>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "bodies/body.hpp"
 #include "contact/contact_law.hpp"
+#include "contact/point_set.hpp"
 
 namespace ckpd {
 
 class MeshWall;
 
-// What contact needs to know of a body besides its points.
+// What contact needs to know of a body: its points and how it moves.
 struct ContactBody {
-  Body* body = nullptr;
-  double spacing = 0;       // lattice spacing dx: bounds how densely its points can sit
-  bool rigid = false;       // no horizon of its own (Body::horizon is 0)
+  PointSet points;
+  bool rigid = false;       // no horizon of its own (points.horizon is 0)
   bool prescribed = false;  // its motion is imposed: two such bodies never interact
   // A mesh wall (mesh_wall.hpp): its points are the six carriers of its motion, not contact
   // points; its partners' points meet its surface instead.
@@ -33,6 +33,9 @@ inline constexpr double kDefaultRadiusRatio = 0.75;
 
 // Constants that may be given globally or for one pair; a pair's own value wins.
 struct ContactConstants {
+  std::optional<std::string> law;  // dem_law.hpp; default kDefaultLaw
+  // The law's own parameters (one value, or one per side), for the keys it declares.
+  std::map<std::string, std::vector<double>> parameters;
   std::optional<double> radius;     // l_c; default kDefaultRadiusRatio x the larger spacing
   std::optional<double> stiffness;  // Ccon; a pair without one (own or global) has no contact
   std::optional<double> skin;       // default: the radius
@@ -52,9 +55,9 @@ struct ContactSettings {
   std::vector<std::size_t> self_contact;  // bodies whose own unbonded points repel (global law)
 
   // The law between bodies a and b (a == b: self-contact), or nullopt when they do not interact
-  // (no stiffness for them, disabled, self-contact not asked for, or both prescribed). Throws
-  // std::invalid_argument when the pair interacts but no horizon can be found (two rigid bodies
-  // without a `horizon`).
+  // (no stiffness for a law that needs one, disabled, self-contact not asked for, or both
+  // prescribed). Throws std::invalid_argument when the pair interacts but no horizon can be found
+  // (two rigid bodies without a `horizon`), for an unknown law, or a law's missing parameter.
   std::optional<PairLaw> law(const std::vector<ContactBody>& bodies, std::size_t a,
                              std::size_t b) const;
   const ContactPairSetting* pair_setting(std::size_t a, std::size_t b) const;

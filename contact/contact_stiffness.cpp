@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <tuple>
+#include <utility>
+
+#include "contact/dem_law.hpp"
 
 namespace ckpd {
 
@@ -37,13 +41,44 @@ std::size_t max_lattice_sites_in_ball(double radius, double spacing, int dimensi
   return best;
 }
 
+namespace {
+
+// A DEM law's share for the points of `x` against partners of `y` (y a wall when `wall`): the
+// row sum 2 N K / V^x with K the law's normal stiffness at the deepest stable overlap l_c / 2
+// (as for the seed law), raised by the tangential spring where it is stiffer and by the dashpot
+// (velocity Verlet with damping ratio zeta is stable up to omega dt = 2 (sqrt(1 + zeta^2) - zeta)),
+// over the smallest and the largest point of x against the largest of y.
+double dem_bound(const DemLaw& law, double radius, const PointSet& x, const PointSet* y,
+                 double partners) {
+  auto extremes = [](const PointSet& s) {
+    const auto [lo, hi] = std::minmax_element(s.volume.begin(), s.volume.end());
+    return std::pair<double, double>(*lo, *hi);
+  };
+  const auto [x_small, x_large] = extremes(x);
+  const double y_large = y ? extremes(*y).second : 0;
+  const double zeta = law.damping_ratio();
+  const double damping = 1 / std::pow(std::sqrt(1 + zeta * zeta) - zeta, 2);
+  double k = 0;
+  for (double vx : {x_small, x_large}) {
+    const LawPoint here{vx, x.density * vx};
+    const LawPoint there = y ? LawPoint{y_large, y->density * y_large}
+                             : LawPoint{0, std::numeric_limits<double>::infinity()};
+    const NormalResponse r = law.normal(0.5 * radius, here, there, y == nullptr);
+    const double stiffest = std::max(r.stiffness, law.friction > 0 ? r.tangential_stiffness : 0);
+    k = std::max(k, 2 * partners * stiffest * damping / vx);
+  }
+  return kContactResolution * k;
+}
+
+}  // namespace
+
 std::vector<double> contact_stiffness_bounds(const ContactSettings& settings,
                                              const std::vector<ContactBody>& bodies) {
   std::vector<double> k(bodies.size(), 0.0);
   if (!settings.present) return k;
   std::vector<double> largest_volume(bodies.size(), 0.0);
   for (std::size_t b = 0; b < bodies.size(); ++b)
-    for (double v : bodies[b].body->volume) largest_volume[b] = std::max(largest_volume[b], v);
+    for (double v : bodies[b].points.volume) largest_volume[b] = std::max(largest_volume[b], v);
   // Many bodies share a spacing and a radius: count lattice sites once per combination.
   std::map<std::tuple<double, double, int>, std::size_t> sites;
   auto sites_in_ball = [&](double radius, double spacing, int dimension) {
@@ -55,7 +90,27 @@ std::vector<double> contact_stiffness_bounds(const ContactSettings& settings,
     for (std::size_t b = a; b < bodies.size(); ++b) {
       const std::optional<PairLaw> law = settings.law(bodies, a, b);
       if (!law) continue;
-      const int dim = bodies[a].body->dimension;
+      const int dim = bodies[a].points.dimension;
+      if (law->dem) {
+        // Lattice sites of the partner within l_c; a point set without a lattice (spacing 0) is
+        // taken as one partner at a time.
+        auto partners = [&](const ContactBody& y) {
+          return y.points.spacing > 0 ? sites_in_ball(law->radius, y.points.spacing, dim) : 1.0;
+        };
+        if (bodies[a].wall || bodies[b].wall) {
+          const std::size_t point_side = bodies[a].wall ? b : a;
+          if (!bodies[point_side].wall)
+            k[point_side] = std::max(
+                k[point_side],
+                dem_bound(*law->dem, law->radius, bodies[point_side].points, nullptr, 1.0));
+          continue;
+        }
+        k[a] = std::max(k[a], dem_bound(*law->dem, law->radius, bodies[a].points, &bodies[b].points,
+                                        partners(bodies[b])));
+        k[b] = std::max(k[b], dem_bound(*law->dem, law->radius, bodies[b].points, &bodies[a].points,
+                                        partners(bodies[a])));
+        continue;
+      }
       if (bodies[a].wall || bodies[b].wall) {
         // A point against a mesh wall: the wall is a dense half-space (wall_law.hpp), so the
         // partner sum N V^j becomes the volume of the ball of radius l_c (4 pi/3 l_c^3), a bound
@@ -70,10 +125,10 @@ std::vector<double> contact_stiffness_bounds(const ContactSettings& settings,
       }
       // Point of a feels the partners of b, and the other way round.
       k[a] = std::max(k[a], kContactResolution * 2 * law->coefficient[0] *
-                                sites_in_ball(law->radius, bodies[b].spacing, dim) *
+                                sites_in_ball(law->radius, bodies[b].points.spacing, dim) *
                                 largest_volume[b]);
       k[b] = std::max(k[b], kContactResolution * 2 * law->coefficient[1] *
-                                sites_in_ball(law->radius, bodies[a].spacing, dim) *
+                                sites_in_ball(law->radius, bodies[a].points.spacing, dim) *
                                 largest_volume[a]);
     }
   return k;

@@ -98,11 +98,11 @@ MeshWall::MeshWall(std::vector<Vec3> vertex, std::vector<std::array<std::uint32_
 
 MeshWall::~MeshWall() = default;
 
-MeshWall::Pose MeshWall::pose(const Body& body) const {
+MeshWall::Pose MeshWall::pose(const PointSet& body) const {
   Vec3 x[6];
   Pose p;
   for (int k = 0; k < 6; ++k) {
-    x[k] = body.current_position(static_cast<std::size_t>(k));
+    x[k] = body.position(static_cast<std::size_t>(k));
     p.centre += x[k] / 6;
   }
   // R e_k = (x_+ - x_-) / (2 a_k); an axis without extent follows from the other two.

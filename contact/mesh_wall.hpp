@@ -18,8 +18,8 @@
 #include <optional>
 #include <vector>
 
-#include "bodies/body.hpp"
 #include "contact/broad_phase.hpp"
+#include "contact/point_set.hpp"
 
 namespace ckpd {
 
@@ -54,7 +54,7 @@ class MeshWall {
     Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
     Vec3 centre = Vec3::Zero();
   };
-  Pose pose(const Body& carrier_body) const;
+  Pose pose(const PointSet& carriers) const;
 
   struct Nearest {
     Vec3 point;         // on the surface, reference frame

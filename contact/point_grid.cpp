@@ -4,7 +4,8 @@
 
 namespace ckpd {
 
-void PointGrid::build(const Body& body, const std::vector<std::uint32_t>& members, double radius) {
+void PointGrid::build(const PointSet& body, const std::vector<std::uint32_t>& members,
+                      double radius) {
   const std::size_t n = members.size();
   point_.resize(n);
   position_.resize(n);
@@ -12,7 +13,7 @@ void PointGrid::build(const Body& body, const std::vector<std::uint32_t>& member
   if (n == 0) return;
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (std::uint32_t i : members) {
-    const Vec3 x = body.current_position(i);
+    const Vec3 x = body.position(i);
     lo = lo.cwiseMin(x);
     hi = hi.cwiseMax(x);
   }
@@ -33,7 +34,7 @@ void PointGrid::build(const Body& body, const std::vector<std::uint32_t>& member
   cell_start_.assign(cells + 1, 0);
   cell_of_.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
-    const Vec3 x = body.current_position(members[k]);
+    const Vec3 x = body.position(members[k]);
     std::size_t c = 0;
     for (int a = 2; a >= 0; --a) {
       const int ca = std::min(static_cast<int>((x[a] - lo[a]) * inverse_cell_), dims_[a] - 1);
@@ -48,7 +49,7 @@ void PointGrid::build(const Body& body, const std::vector<std::uint32_t>& member
     const std::uint32_t slot = next_slot_[cell_of_[k]]++;
     const std::uint32_t i = members[k];
     point_[slot] = i;
-    position_[slot] = body.current_position(i);
+    position_[slot] = body.position(i);
     volume_[slot] = body.volume[i];
   }
 }

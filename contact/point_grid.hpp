@@ -8,14 +8,14 @@
 #include <cstdint>
 #include <vector>
 
-#include "bodies/body.hpp"
+#include "contact/point_set.hpp"
 
 namespace ckpd {
 
 class PointGrid {
  public:
-  // Bins the points `members` of `body`; `radius` is the largest query radius.
-  void build(const Body& body, const std::vector<std::uint32_t>& members, double radius);
+  // Bins the points `members` of `points`; `radius` is the largest query radius.
+  void build(const PointSet& points, const std::vector<std::uint32_t>& members, double radius);
 
   std::size_t size() const { return point_.size(); }
 

@@ -1,6 +1,7 @@
 // Bad contact and rigid-body input: a clear error naming the file, line and key, exit status 2,
 // and no summary.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <filesystem>
 
 #include "run_helpers.hpp"
@@ -112,4 +113,54 @@ TEST_CASE("two rigid bodies in contact need a horizon", "[cli][contact]") {
   const CommandResult r = run_ckpd("run " + file + " --quiet --out " + (dir / "out").string());
   INFO(r.output);
   CHECK(r.exit_code == 0);
+}
+
+TEST_CASE("an unknown contact law is rejected with the known ones listed", "[cli][contact][dem]") {
+  expect_rejected(replace(kGoodCase, "  radius: 0.0008", "  radius: 0.0008\n  law: hooke"),
+                  {"case.yaml:14: contact.law", "a contact law: one of", "hertz_mindlin",
+                   "linear_dashpot", "repulsive", "'hooke'"});
+}
+
+TEST_CASE("a contact law's parameters are checked: e in (0, 1], mu >= 0, none missing",
+          "[cli][contact][dem]") {
+  const std::string dashpot = "{bodies: [ball, block], skin: 0.0005, law: linear_dashpot, ";
+  expect_rejected(
+      replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}", dashpot + "restitution: 1.5}"),
+      {"case.yaml:15: contact.pairs[0].restitution", "restitution e in (0, 1]", "'1.5'"});
+  expect_rejected(
+      replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}", dashpot + "restitution: 0}"),
+      {"case.yaml:15: contact.pairs[0].restitution", "(0, 1]"});
+  expect_rejected(replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}",
+                          dashpot + "restitution: 0.5, friction: -0.2}"),
+                  {"case.yaml:15: contact.pairs[0].friction", "mu >= 0", "'-0.2'"});
+  expect_rejected(
+      replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}", dashpot + "friction: 0.2}"),
+      {"case.yaml:15: contact.pairs[0]", "`restitution` for contact law `linear_dashpot`"});
+  expect_rejected(
+      replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}",
+              "{bodies: [ball, block], law: hertz_mindlin, restitution: 0.5, poisson_ratio: 0.3}"),
+      {"case.yaml:15: contact.pairs[0]", "`youngs_modulus` for contact law `hertz_mindlin`"});
+  // A parameter of another law than the one in effect.
+  expect_rejected(replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}",
+                          "{bodies: [ball, block], skin: 0.0005, friction: 0.3}"),
+                  {"case.yaml:15: contact.pairs[0].friction", "parameter of contact law",
+                   "the law here is `repulsive`"});
+}
+
+TEST_CASE("a case with contact laws and friction runs and reports them", "[cli][contact][dem]") {
+  const auto dir = fresh_dir("dem-contact");
+  const std::string file = write_file(
+      dir / "case.yaml",
+      replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}",
+              "{bodies: [ball, block], skin: 0.0005, law: linear_dashpot, restitution: 0.5, "
+              "friction: 0.3}"));
+  const CommandResult r = run_ckpd("run " + file + " --out " + (dir / "out").string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("contact ball/block: law linear_dashpot, friction 0.3, normal damping "
+                      "ratio 0.21") != std::string::npos);
+  const auto summary = read_json(dir / "out" / "summary.json");
+  CHECK(summary["contact"]["laws"][0]["law"] == "linear_dashpot");
+  CHECK(summary["contact"]["laws"][0]["damping_ratio"].get<double>() ==
+        Approx(-std::log(0.5) / std::sqrt(M_PI * M_PI + std::log(0.5) * std::log(0.5))));
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "base/parallel_policy.hpp"
 #include "contact/contact_manager.hpp"
 #include "contact/contact_stiffness.hpp"
 #include "contact_fixtures.hpp"
@@ -160,6 +161,8 @@ TEST_CASE("the broad phase rebuilds only when a point has moved more than half t
 TEST_CASE("contact forces are the same bits on one and on two threads", "[contact]") {
   std::vector<std::vector<Vec3>> result[2];
   const int threads_before = omp_get_max_threads();
+  // The scene is small: without this every loop would stay serial on two threads too.
+  const ScopedParallelThresholds every_loop_parallel(0);
   for (int threads : {1, 2}) {
     omp_set_num_threads(threads);
     Scene scene = three_spheres(", self_contact: [b]");

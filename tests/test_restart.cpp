@@ -152,6 +152,59 @@ output: {history_interval: 50, checkpoint_interval: 300}
   require_identical_checkpoints(dir / "full" / "checkpoint.h5", dir / "part" / "checkpoint.h5");
 }
 
+TEST_CASE("a restart through frictional contact with a spinning rigid body continues bit for bit",
+          "[restart][dem]") {
+  // A deformable disc glances off a free rigid disc under linear_dashpot with friction: the
+  // springs of the contacting point pairs, the rigid couple and the dissipation cross the
+  // checkpoint, which falls mid-contact.
+  const char* text = R"(# SI units
+materials:
+  steel: {density: 7850, youngs_modulus: 200e9, poisson_ratio: 0.3}
+bodies:
+  - {name: left, material: steel, dimension: 2, geometry: {type: sphere, center: [-0.0051, 0.002], radius: 0.005},
+     spacing: 0.001, horizon_ratio: 3.015}
+  - name: right
+    material: steel
+    dimension: 2
+    rigid: {motion: free, velocity: [-20, 0]}
+    geometry: {type: sphere, center: [0.0051, 0], radius: 0.005}
+    spacing: 0.001
+conditions:
+  - {type: initial_velocity, body: left, value: [20, -15]}
+contact: {stiffness: 1.0e11, radius: 0.0008, horizon: 0.003, law: linear_dashpot, restitution: 0.5,
+          friction: 0.1}
+time: {steps: 804}
+output: {history_interval: 50, checkpoint_interval: 402}
+)";
+  // The discs meet at step 397 and slide: step 402 is mid-contact.
+  const auto dir = fresh_dir("restart-friction");
+  const std::string file = write_file(dir / "case.yaml", text);
+  const CommandResult full_run =
+      run_ckpd("run " + file + " --quiet --threads 2 --out " + (dir / "full").string());
+  INFO(full_run.output);
+  REQUIRE(full_run.exit_code == 0);
+  REQUIRE(run_ckpd("run " + file + " --quiet --threads 2 --set time.steps=402 --out " +
+                   (dir / "part").string())
+              .exit_code == 0);
+  const auto at402 = read_json(dir / "part" / "summary.json");
+  CHECK(at402["contact"]["point_pairs_in_contact"].get<long long>() > 0);
+  CHECK(at402["energy"]["contact_friction"].get<double>() > 0);
+  std::filesystem::copy_file(dir / "part" / "checkpoint.h5", dir / "at402.h5");
+  const CommandResult r =
+      run_ckpd("run " + file + " --quiet --threads 2 --restart " + (dir / "at402.h5").string() +
+               " --out " + (dir / "part").string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const auto full = read_json(dir / "full" / "summary.json");
+  const auto resumed = read_json(dir / "part" / "summary.json");
+  CHECK(full["energy"]["contact_friction"].get<double>() > 0);
+  CHECK(full["energy"]["contact_damping"].get<double>() > 0);
+  CHECK(std::abs(full["contact"]["rigid_bodies"][0]["angular_velocity"][2].get<double>()) > 0);
+  CHECK(resumed["energy"] == full["energy"]);
+  CHECK(resumed["contact"]["rigid_bodies"] == full["contact"]["rigid_bodies"]);
+  require_identical_checkpoints(dir / "full" / "checkpoint.h5", dir / "part" / "checkpoint.h5");
+}
+
 TEST_CASE("SIGINT stops a run with a checkpoint it can continue from", "[restart]") {
   const auto dir = fresh_dir("sigint");
   std::string text = kCase;

@@ -111,6 +111,7 @@ int check(const CheckOptions& opt) {
   std::cout << "time step: " << s.dt << " s (" << s.safety << " x estimate"
             << (s.user_dt ? ", from the case" : "") << "), " << sim.planned_steps() << " steps\n";
   if (std::isfinite(s.speed_step)) std::cout << "  " << contact_speed_note(s) << '\n';
+  std::cout << contact_law_report(scene);
   std::cout << "memory: ~" << megabytes_text(megabytes) << " of body data; peak RSS after set-up "
             << megabytes_text(peak_rss_mb()) << "\n";
 

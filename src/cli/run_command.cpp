@@ -14,6 +14,7 @@
 #include "src/case/case_loader.hpp"
 #include "src/cli/cli_options.hpp"
 #include "src/cli/setup_interrupt.hpp"
+#include "src/engine/contact_coupling.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/output/beta_report.hpp"
 #include "src/output/checkpoint.hpp"
@@ -75,6 +76,7 @@ void print_setup(const Simulation& sim, std::ostream& os) {
     os << " (the last one " << last << " s: the run ends exactly at time.end)";
   os << '\n';
   if (std::isfinite(s.speed_step)) os << "  " << contact_speed_note(s) << '\n';
+  os << contact_law_report(sim.scene());
 }
 
 // What summary.json records of how the run was made: the command line, the overrides, the

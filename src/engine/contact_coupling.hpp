@@ -1,7 +1,8 @@
 #pragma once
-// Ties a scene's bodies to the contact library: which bodies take part and how, the contact
-// manager a run needs (none when no two bodies interact and no body has self-contact), and the
-// stable-step estimate with the contact stiffness added (contact_stiffness.hpp).
+// Ties a scene's bodies to the contact library: the point-set views contact sees them through
+// (contact/point_set.hpp), which bodies take part and how, the contact manager a run needs (none
+// when no two bodies interact and no body has self-contact), and the stable-step estimate with
+// the contact stiffness added (contact_stiffness.hpp).
 #include <memory>
 #include <vector>
 
@@ -11,11 +12,33 @@
 
 namespace ckpd {
 
+// The view of a body contact works on; `force_density` and a rigid body's couple are writable.
+PointSet point_set(SceneBody& body);
+// The same without the force and the couple: for the questions that only read (laws, stiffness
+// bounds).
+PointSet point_set(const SceneBody& body);
+
+// Writable views of every body, in scene order.
 std::vector<ContactBody> contact_bodies(Scene& scene);
+// Read-only views (no force_density): enough for ContactSettings::law and the stiffness bounds.
+std::vector<ContactBody> contact_bodies(const Scene& scene);
+// The points alone, for ContactManager::rebind.
+std::vector<PointSet> contact_point_sets(Scene& scene);
 
 // Null when the scene has no contact work to do: one body without self-contact, or no pair of
 // bodies with a contact law.
 std::unique_ptr<ContactManager> make_contact_manager(Scene& scene);
+
+// The law of every interacting pair of bodies (a <= b), for the set-up report and the summary.
+struct ContactLawNote {
+  std::string bodies;  // "a/b"
+  std::string law;
+  double friction = 0;
+  double damping_ratio = 0;  // the normal dashpot's gamma / (2 sqrt(k m*)); 0 for the seed law
+};
+std::vector<ContactLawNote> contact_law_notes(const Scene& scene);
+// One line per pair that does not use the default law; empty when all do.
+std::string contact_law_report(const Scene& scene);
 
 // Per body, the contact stiffness bound its points may feel (0 without contact).
 std::vector<double> contact_stiffness_bounds(const Scene& scene);

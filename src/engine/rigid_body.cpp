@@ -94,7 +94,7 @@ Vec3 RigidMotion::force(const Body& body) const {
 }
 
 Vec3 RigidMotion::torque(const Body& body) const {
-  Vec3 t = Vec3::Zero();
+  Vec3 t = couple_;
   for (std::size_t i = 0; i < body.size(); ++i)
     t += (body.current_position(i) - centre_).cross(body.volume[i] * body.force_density[i]);
   return t;

@@ -49,17 +49,25 @@ class RigidMotion {
   // books only the external loads: the internal forces that keep a rigid body rigid do no work.
   void set_accelerations(Body& body, double t) const;
 
+  // A torque on the body besides that of its point forces about the centre: contact forces
+  // that act at a contact point rather than at the point carrying them (contact/point_set.hpp).
+  // Cleared with the point forces before every force evaluation, used by the next two kicks.
+  Vec3* couple() { return &couple_; }
+  void clear_couple() { couple_ = Vec3::Zero(); }
+
   // The motion's state between steps, for checkpoints.
   struct State {
     Vec3 centre, velocity, angular_momentum;
     Eigen::Quaterniond orientation;
+    Vec3 couple = Vec3::Zero();
   };
-  State state() const { return {centre_, velocity_, angular_momentum_, orientation_}; }
+  State state() const { return {centre_, velocity_, angular_momentum_, orientation_, couple_}; }
   void restore(const State& s) {
     centre_ = s.centre;
     velocity_ = s.velocity;
     angular_momentum_ = s.angular_momentum;
     orientation_ = s.orientation;
+    couple_ = s.couple;
   }
 
  private:
@@ -79,7 +87,8 @@ class RigidMotion {
   Eigen::Quaterniond orientation_ = Eigen::Quaterniond::Identity();
   Vec3 angular_momentum_ = Vec3::Zero();          // world axes (free)
   Vec3 imposed_angular_velocity_ = Vec3::Zero();  // prescribed
-  std::vector<Vec3> previous_displacement_;       // scratch of first_half
+  Vec3 couple_ = Vec3::Zero();
+  std::vector<Vec3> previous_displacement_;  // scratch of first_half
 };
 
 // A body of points without bonds (no families, no interaction counts): what a rigid body needs.

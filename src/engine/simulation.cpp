@@ -7,6 +7,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "base/parallel_policy.hpp"
 #include "bodies/damage.hpp"
 #include "bodies/symmetric_kernel.hpp"
 #include "src/engine/contact_coupling.hpp"
@@ -39,11 +40,10 @@ void apply_prescribed_motion(SceneBody& sb, double t, bool velocity, bool accele
   }
 }
 
-// Per-point loops over fewer points than this run on the calling thread: entering a parallel
-// region costs microseconds, and milliseconds when another process holds a core, which is more
-// than such a loop (measured: 121 balls of 81 points, 9.8 ms per step on one thread, 119 ms on
-// two of a loaded machine with every small loop parallel).
-constexpr std::size_t kParallelPoints = 4096;
+// Per-point loops over more points than this run in parallel (base/parallel_policy.hpp).
+std::size_t parallel_points() {
+  return parallel_thresholds().engine_points;
+}
 
 // Work increment of the external loads and reactions over a displacement increment dt*v:
 // V/2 f_ext . du with f_ext = rho a - (b_total - b_ext) (for a free component that is b_ext;
@@ -54,7 +54,7 @@ double half_work_increment(const Body& b, double dt) {
   // depend on which thread finished first (an OpenMP reduction's combining order may).
   std::vector<double> partial(static_cast<std::size_t>(omp_get_max_threads()), 0.0);
   const std::size_t n = b.size();
-#pragma omp parallel if (n > kParallelPoints)
+#pragma omp parallel if (n > parallel_points())
   {
     double w = 0;
 #pragma omp for schedule(static)
@@ -84,8 +84,7 @@ double initial_speed(const SceneBody& sb) {
 std::vector<ContactPairRadius> contact_pair_radii(const Scene& scene) {
   std::vector<ContactPairRadius> pairs;
   if (!scene.contact.present) return pairs;
-  // The contact library reads the bodies only; the pointers are not kept.
-  const std::vector<ContactBody> bodies = contact_bodies(const_cast<Scene&>(scene));
+  const std::vector<ContactBody> bodies = contact_bodies(scene);
   for (std::size_t a = 0; a < bodies.size(); ++a)
     for (std::size_t b = a; b < bodies.size(); ++b)
       if (const std::optional<PairLaw> law = scene.contact.law(bodies, a, b))
@@ -215,8 +214,10 @@ Simulation::Simulation(Scene& scene) : scene_(scene) {
         *std::max_element(sb.body.stiffness_bound.begin(), sb.body.stiffness_bound.end());
     max_speed = std::max(max_speed, sb.spacing * std::sqrt(k / sb.body.density));
   }
-  // No material point of a stable run moves at ten times the fastest wave or load speed.
-  speed_limit_ = 10 * max_speed;
+  // No material point of a stable run moves at ten times the fastest wave or load speed. A
+  // scene of rigid bodies at rest has neither (a block set down on a slope): no scale to judge
+  // by, no limit.
+  speed_limit_ = max_speed > 0 ? 10 * max_speed : std::numeric_limits<double>::infinity();
   for (const SceneBody& sb : scene_.bodies) initially_failed_.push_back(failed_bond_count(sb.body));
   contact_radius_.assign(scene_.bodies.size(), std::numeric_limits<double>::infinity());
   for (const ContactPairRadius& p : contact_pair_radii(scene_)) {
@@ -242,6 +243,7 @@ void Simulation::evaluate_forces(bool with_energy) {
     for (const auto& c : sb.conditions) c->add_external_force(b, time_);
     if (sb.rigid) {
       b.force_density = b.external_force_density;  // no internal forces
+      sb.rigid->clear_couple();
       return;
     }
     // velocity holds the drift velocity of the step (kick-drift-kick): the lost energy is
@@ -252,7 +254,7 @@ void Simulation::evaluate_forces(bool with_energy) {
     const SymmetricKernelStats stats = compute_internal_force_symmetric(b, with_energy);
     if (with_energy) inverted_[index] = stats.inverted_tetrahedra + stats.inverted_triangles;
     const std::size_t n = b.size();
-#pragma omp parallel for schedule(static) if (n > kParallelPoints)
+#pragma omp parallel for schedule(static) if (n > parallel_points())
     for (std::size_t i = 0; i < n; ++i) b.force_density[i] += b.external_force_density[i];
     if (with_energy) strain[index] = strain_energy(b);
   };
@@ -265,7 +267,7 @@ void Simulation::evaluate_forces(bool with_energy) {
     if (scene_.bodies[k].rigid)
       own_forces(k);
     else
-      (scene_.bodies[k].body.size() < kParallelPoints ? small : large).push_back(k);
+      (scene_.bodies[k].body.size() < parallel_points() ? small : large).push_back(k);
   }
 #pragma omp parallel for schedule(dynamic) if (small.size() > 1)
   for (std::size_t k = 0; k < small.size(); ++k) own_forces(small[k]);
@@ -284,7 +286,11 @@ void Simulation::evaluate_forces(bool with_energy) {
   body_force_seconds_ +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // Contact couples the bodies: it runs once all of them are at the new positions.
-  if (contact_) contact_->add_forces();
+  if (contact_) {
+    contact_->rebind(contact_point_sets(scene_));
+    // The springs advance over the step just taken; the first evaluation follows none.
+    contact_->add_forces(step_ > 0 ? step_choice_.dt : 0.0);
+  }
   for (SceneBody& sb : scene_.bodies) {
     Body& b = sb.body;
     if (sb.rigid) {
@@ -293,7 +299,7 @@ void Simulation::evaluate_forces(bool with_energy) {
     }
     const double inv_rho = 1 / b.density;
     const std::size_t n = b.size();
-#pragma omp parallel for schedule(static) if (n > kParallelPoints)
+#pragma omp parallel for schedule(static) if (n > parallel_points())
     for (std::size_t i = 0; i < n; ++i) b.acceleration[i] = inv_rho * b.force_density[i];
     apply_prescribed_motion(sb, time_, false, true);
   }
@@ -314,11 +320,11 @@ void Simulation::advance(bool with_energy) {
       continue;
     }
     const std::size_t n = b.size();
-#pragma omp parallel for schedule(static) if (n > kParallelPoints)
+#pragma omp parallel for schedule(static) if (n > parallel_points())
     for (std::size_t i = 0; i < n; ++i) b.velocity[i] += 0.5 * dt * b.acceleration[i];
     apply_prescribed_motion(sb, time_ + 0.5 * dt, true, false);
     external_work_ += half_work_increment(b, dt);
-#pragma omp parallel for schedule(static) if (n > kParallelPoints)
+#pragma omp parallel for schedule(static) if (n > parallel_points())
     for (std::size_t i = 0; i < n; ++i) b.displacement[i] += dt * b.velocity[i];
   }
   time_ = step_ + 1 == planned_steps_ && last_dt_ > 0
@@ -337,7 +343,7 @@ void Simulation::advance(bool with_energy) {
     double worst = 0;
     std::size_t worst_point = 0;
     bool finite = true;
-#pragma omp parallel if (n > kParallelPoints)
+#pragma omp parallel if (n > parallel_points())
     {
       double my_worst = 0;
       std::size_t my_point = 0;
@@ -470,8 +476,12 @@ Energies Simulation::energies() const {
   e.contact = contact_ ? contact_->energy() : 0.0;
   e.external_work = external_work_;
   e.dissipated = dissipated_;
-  e.balance_error =
-      e.kinetic + e.strain + e.contact + e.dissipated - e.external_work - initial_total_;
+  if (contact_) {
+    e.contact_damping = contact_->damping_dissipated();
+    e.contact_friction = contact_->friction_dissipated();
+  }
+  e.balance_error = e.kinetic + e.strain + e.contact + e.dissipated + e.contact_damping +
+                    e.contact_friction - e.external_work - initial_total_;
   return e;
 }
 

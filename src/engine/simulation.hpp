@@ -76,8 +76,10 @@ struct Energies {
   double contact = 0;        // contact potential (contact/contact_law.hpp)
   double external_work = 0;  // work done on the bodies by loads and prescribed motion
   double dissipated = 0;     // strain energy of interactions lost when their bonds failed
-  // kinetic + strain + contact + dissipated - external_work - (its value at t = 0): zero for
-  // exact, undamaged dynamics.
+  // Dissipated by the DEM contact laws' dashpots and by friction (contact/dem_law.hpp).
+  double contact_damping = 0, contact_friction = 0;
+  // kinetic + strain + contact + dissipated + contact_damping + contact_friction - external_work
+  // - (its value at t = 0): zero for exact, undamaged dynamics.
   double balance_error = 0;
 };
 
@@ -134,6 +136,10 @@ class Simulation {
   };
   Counters counters() const;
   void restore(const Counters& counters);
+  // The contact manager's springs and dissipation, for checkpoints (call when contact() is set).
+  void restore_contact(const ContactManager::HistoryState& state) {
+    contact_->restore_history(state);
+  }
   Scene& scene() { return scene_; }
   // Wall time spent in the bodies' own forces (internal and external), for the contact benchmark.
   double body_force_seconds() const { return body_force_seconds_; }

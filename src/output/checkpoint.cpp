@@ -15,8 +15,11 @@ namespace ckpd {
 
 namespace {
 
-// Format 2 adds the content hash and the case's physics text (format 1 had neither: refused).
-constexpr const char* kFormat = "ckpd checkpoint 2";
+// Format 3: the content hash and the case's physics text (format 1 had neither), rigid states with
+// the contact couple, and the contact group with the DEM laws' springs (format 2 had no couple
+// or springs). Older formats are refused.
+constexpr const char* kFormat = "ckpd checkpoint 3";
+constexpr std::size_t kRigidState = 16;
 using hdf5::Handle;
 
 // FNV-1a (64 bit) over everything a restart restores, in a fixed order. Each step is a
@@ -74,6 +77,21 @@ void hash_body(ContentHash& h, const Body& body, std::size_t initially_failed) {
   h.vector(body.external_force_density);
   h.vector(body.strain_energy_density);
   h.vector(body.bond_intact);
+}
+
+// The DEM laws' state: evaluation count, dissipated energies and every spring row.
+void hash_contact(ContentHash& h, const ContactManager::HistoryState& state) {
+  h.value(state.evaluation);
+  h.value(state.damping_dissipated);
+  h.value(state.friction_dissipated);
+  h.value(state.rows.size());
+  for (const ContactHistoryRow& r : state.rows) {
+    h.value(r.body);
+    h.value(r.point);
+    h.value(r.partner_body);
+    h.value(r.partner_point);
+    h.bytes(r.spring.data(), 3 * sizeof(double));
+  }
 }
 
 std::string format_seconds(double v) {
@@ -183,14 +201,40 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
       hash_body(hash, body, c.initially_failed[b]);
       if (const auto& rigid = sim.scene().bodies[b].rigid) {
         const RigidMotion::State r = rigid->state();
-        const double packed[13] = {
-            r.centre.x(),           r.centre.y(),           r.centre.z(),
-            r.velocity.x(),         r.velocity.y(),         r.velocity.z(),
-            r.angular_momentum.x(), r.angular_momentum.y(), r.angular_momentum.z(),
-            r.orientation.w(),      r.orientation.x(),      r.orientation.y(),
-            r.orientation.z()};
-        hdf5::write_doubles(group, "rigid_state", packed, 13, 1);
+        const double packed[kRigidState] = {r.centre.x(),           r.centre.y(),
+                                            r.centre.z(),           r.velocity.x(),
+                                            r.velocity.y(),         r.velocity.z(),
+                                            r.angular_momentum.x(), r.angular_momentum.y(),
+                                            r.angular_momentum.z(), r.orientation.w(),
+                                            r.orientation.x(),      r.orientation.y(),
+                                            r.orientation.z(),      r.couple.x(),
+                                            r.couple.y(),           r.couple.z()};
+        hdf5::write_doubles(group, "rigid_state", packed, kRigidState, 1);
         hash.bytes(packed, sizeof packed);
+      }
+    }
+    if (const ContactManager* contact = sim.contact()) {
+      // Evaluation count, dissipation and one row per spring: the pair's four indices (the
+      // wall partner's point as -1) and the spring.
+      const ContactManager::HistoryState h = contact->history();
+      Handle group(H5Gcreate2(file, "contact", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+                   "create contact group");
+      hdf5::write_int64_attribute(group, "evaluation", static_cast<long long>(h.evaluation));
+      hdf5::write_double_attribute(group, "damping_dissipated", h.damping_dissipated);
+      hdf5::write_double_attribute(group, "friction_dissipated", h.friction_dissipated);
+      hdf5::write_int64_attribute(group, "springs", static_cast<long long>(h.rows.size()));
+      hash_contact(hash, h);
+      if (!h.rows.empty()) {
+        std::vector<double> index;
+        std::vector<Vec3> spring;
+        for (const ContactHistoryRow& r : h.rows) {
+          const double partner = r.partner_point == kWallPartner ? -1.0 : r.partner_point;
+          index.insert(index.end(),
+                       {double(r.body), double(r.point), double(r.partner_body), partner});
+          spring.push_back(r.spring);
+        }
+        hdf5::write_doubles(group, "spring_index", index.data(), h.rows.size(), 4);
+        hdf5::write_vectors(group, "spring", spring);
       }
     }
     hdf5::write_string_attribute(file, "content_hash", hash.hex());
@@ -211,10 +255,10 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
   try {
     Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "open " + path);
     const std::string format = hdf5::read_string_attribute(file, "format");
-    if (format == "ckpd checkpoint 1")
-      throw CheckpointError(path +
-                            ": written by an older ckpd (format 1, without checksums): "
-                            "run the case again from the start");
+    if (format == "ckpd checkpoint 1" || format == "ckpd checkpoint 2")
+      throw CheckpointError(path + ": written by an older ckpd (" + format +
+                            ", without checksums or contact history): run the case again from "
+                            "the start");
     if (format != kFormat)
       throw CheckpointError(path + ": not a ckpd checkpoint of a known format");
     if (hdf5::read_string_attribute(file, "case_fingerprint") != sim.scene().fingerprint) {
@@ -298,19 +342,45 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
                                 ", not 0 (broken) or 1 (intact) (corrupted checkpoint)");
       hash_body(hash, body, c.initially_failed.back());
       if (auto& rigid = scene.bodies[b].rigid) {
-        // centre, velocity, angular momentum, orientation quaternion (w, x, y, z)
-        const std::vector<double> p = hdf5::read_doubles(group, "rigid_state", 13);
+        // centre, velocity, angular momentum, orientation quaternion (w, x, y, z), couple
+        const std::vector<double> p = hdf5::read_doubles(group, "rigid_state", kRigidState);
         for (double v : p) require_finite(where, "the rigid-body state", v);
         hash.bytes(p.data(), p.size() * sizeof(double));
         rigid->restore({Vec3(p[0], p[1], p[2]), Vec3(p[3], p[4], p[5]), Vec3(p[6], p[7], p[8]),
-                        Eigen::Quaterniond(p[9], p[10], p[11], p[12])});
+                        Eigen::Quaterniond(p[9], p[10], p[11], p[12]), Vec3(p[13], p[14], p[15])});
       }
+    }
+    ContactManager::HistoryState h;
+    if (sim.contact()) {
+      Handle group(H5Gopen2(file, "contact", H5P_DEFAULT), H5Gclose, "open contact group");
+      h.evaluation = static_cast<std::uint64_t>(hdf5::read_int64_attribute(group, "evaluation"));
+      h.damping_dissipated = hdf5::read_double_attribute(group, "damping_dissipated");
+      h.friction_dissipated = hdf5::read_double_attribute(group, "friction_dissipated");
+      const auto rows = static_cast<std::size_t>(hdf5::read_int64_attribute(group, "springs"));
+      if (rows > 0) {
+        const std::vector<double> index = hdf5::read_doubles(group, "spring_index", 4 * rows);
+        const std::vector<Vec3> spring = hdf5::read_vectors(group, "spring", rows);
+        for (std::size_t r = 0; r < rows; ++r) {
+          const double* x = &index[4 * r];
+          h.rows.push_back({static_cast<std::uint32_t>(x[0]), static_cast<std::uint32_t>(x[1]),
+                            static_cast<std::uint32_t>(x[2]),
+                            x[3] < 0 ? kWallPartner : static_cast<std::uint32_t>(x[3]), spring[r]});
+        }
+      }
+      hash_contact(hash, h);
     }
     if (hdf5::read_string_attribute(file, "content_hash") != hash.hex())
       throw CheckpointError(path +
                             ": the content hash does not match the stored one (the file "
                             "was changed or corrupted after it was written)");
     sim.restore(c);
+    if (sim.contact()) {
+      try {
+        sim.restore_contact(h);
+      } catch (const std::invalid_argument& e) {
+        throw CheckpointError(path + ": " + e.what());
+      }
+    }
   } catch (const CheckpointError&) {
     throw;
   } catch (const std::runtime_error& e) {

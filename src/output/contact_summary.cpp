@@ -1,5 +1,7 @@
 #include "src/output/contact_summary.hpp"
 
+#include "src/engine/contact_coupling.hpp"
+
 namespace ckpd {
 
 namespace {
@@ -61,6 +63,15 @@ nlohmann::ordered_json contact_summary(const Simulation& sim) {
     j["points_binned"] = s.points_binned;
     j["point_pair_tests"] = s.point_pair_tests;
     j["contact_seconds"] = s.seconds;
+    nlohmann::ordered_json laws = nlohmann::ordered_json::array();
+    for (const ContactLawNote& n : contact_law_notes(sim.scene()))
+      laws.push_back({{"bodies", n.bodies},
+                      {"law", n.law},
+                      {"friction", n.friction},
+                      {"damping_ratio", n.damping_ratio}});
+    j["laws"] = laws;
+    j["damping_dissipated"] = contact->damping_dissipated();
+    j["friction_dissipated"] = contact->friction_dissipated();
   }
   j["body_force_seconds"] = sim.body_force_seconds();
   j["rigid_bodies"] = rigid_bodies(sim);

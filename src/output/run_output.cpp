@@ -22,8 +22,8 @@ HistoryWriter::HistoryWriter(const std::string& path, long long resume_after_ste
                              std::vector<HistoryQuantity> chosen)
     : path_(path), chosen_(std::move(chosen)) {
   std::string header =
-      "step,time,kinetic,strain,contact,external_work,dissipated,balance_error,broken_bonds,"
-      "max_damage,inverted";
+      "step,time,kinetic,strain,contact,external_work,dissipated,contact_damping,"
+      "contact_friction,balance_error,broken_bonds,max_damage,inverted";
   for (const HistoryQuantity& q : chosen_)
     for (const std::string& column : history_columns(q)) header += "," + column;
   std::vector<std::string> kept;
@@ -50,8 +50,8 @@ void HistoryWriter::write_row(const Simulation& sim) {
   const Energies e = sim.energies();
   out_ << std::setprecision(10) << sim.step() << ',' << sim.time() << ',' << e.kinetic << ','
        << e.strain << ',' << e.contact << ',' << e.external_work << ',' << e.dissipated << ','
-       << e.balance_error << ',' << sim.broken_bonds() << ',' << sim.max_damage() << ','
-       << sim.inverted();
+       << e.contact_damping << ',' << e.contact_friction << ',' << e.balance_error << ','
+       << sim.broken_bonds() << ',' << sim.max_damage() << ',' << sim.inverted();
   for (const HistoryQuantity& q : chosen_)
     for (double v : history_values(sim, q)) out_ << ',' << v;
   out_ << '\n';
@@ -167,9 +167,14 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
   j["max_damage"] = sim.max_damage();
   j["broken_bonds"] = sim.broken_bonds();
   const Energies e = sim.energies();
-  j["energy"] = {{"kinetic", e.kinetic},       {"strain", e.strain},
-                 {"contact", e.contact},       {"external_work", e.external_work},
-                 {"dissipated", e.dissipated}, {"balance_error", e.balance_error}};
+  j["energy"] = {{"kinetic", e.kinetic},
+                 {"strain", e.strain},
+                 {"contact", e.contact},
+                 {"external_work", e.external_work},
+                 {"dissipated", e.dissipated},
+                 {"contact_damping", e.contact_damping},
+                 {"contact_friction", e.contact_friction},
+                 {"balance_error", e.balance_error}};
   j["inversion"] = inversion_summary(sim);
   j["bodies"] = bodies;
   j["contact"] = contact_summary(sim);

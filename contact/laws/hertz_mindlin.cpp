@@ -1,0 +1,64 @@
+#include "contact/laws/hertz_mindlin.hpp"
+
+#include <numbers>
+#include <stdexcept>
+
+#include "contact/dem_law.hpp"
+
+namespace ckpd {
+namespace {
+
+class HertzMindlin final : public DemLaw {
+ public:
+  HertzMindlin(double modulus, double shear, double pair_radius, double wall_radius, double e,
+               double mu)
+      : modulus_(modulus), shear_(shear), pair_radius_(pair_radius), wall_radius_(wall_radius) {
+    const double l = std::log(e);
+    zeta_ = std::sqrt(5.0 / 6) * -l / std::sqrt(l * l + std::numbers::pi * std::numbers::pi);
+    friction = mu;
+  }
+  NormalResponse normal(double overlap, const LawPoint& a, const LawPoint& b,
+                        bool wall) const override {
+    const double radius = wall ? wall_radius_ : pair_radius_;
+    const double m = effective_mass(a, b, wall);
+    const double root = std::sqrt(radius * overlap);
+    NormalResponse r;
+    r.force = 4.0 / 3 * modulus_ * root * overlap;
+    r.stiffness = 2 * modulus_ * root;
+    r.energy = 0.4 * r.force * overlap;
+    r.damping = 2 * zeta_ * std::sqrt(r.stiffness * m);
+    r.tangential_stiffness = 8 * shear_ * root;
+    return r;
+  }
+  double damping_ratio() const override { return zeta_; }
+
+ private:
+  double modulus_, shear_, pair_radius_, wall_radius_, zeta_ = 0;
+};
+
+const bool registered = register_law(
+    "hertz_mindlin",
+    {"Hertz normal, Mindlin tangential stiffness from E and nu, damping from e, Coulomb friction",
+     {restitution_parameter(),
+      friction_parameter(),
+      {"youngs_modulus", "E > 0 (Pa): one value, or one per side of the pair", true, 2,
+       valid_positive},
+      {"poisson_ratio", "nu in (-1, 0.5): one value, or one per side of the pair", true, 2,
+       valid_poisson},
+      {"effective_radius", "R* > 0 (m; default l_c/4, l_c/1 against a wall)", false, 1,
+       valid_positive}},
+     false,
+     [](const LawInputs& in) -> std::shared_ptr<const DemLaw> {
+       const double e1 = side_value(in, "youngs_modulus", 0),
+                    e2 = side_value(in, "youngs_modulus", 1);
+       const double n1 = side_value(in, "poisson_ratio", 0),
+                    n2 = side_value(in, "poisson_ratio", 1);
+       const double given = value_or(in, "effective_radius", 0);
+       return std::make_shared<HertzMindlin>(
+           hertz::effective_modulus(e1, n1, e2, n2), hertz::effective_shear_modulus(e1, n1, e2, n2),
+           given > 0 ? given : in.radius / 4, given > 0 ? given : in.radius,
+           side_value(in, "restitution", 0), value_or(in, "friction", 0));
+     }});
+
+}  // namespace
+}  // namespace ckpd

@@ -1,0 +1,168 @@
+// The contact manager on raw arrays, through the point-set view alone (no body is built): forces
+// and energy against an all-pairs sum of MODEL.md section 5, self-contact through the view's
+// bond query, and the same bits on one and two threads with every loop parallel.
+#include <omp.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+#include <set>
+#include <utility>
+
+#include "base/parallel_policy.hpp"
+#include "contact/contact_manager.hpp"
+
+using namespace ckpd;
+
+namespace {
+
+constexpr double kLc = 0.5e-3, kStiffness = 1e12, kHorizon = 2e-3, kSpacing = 1e-3;
+
+// Arrays of one point set: a jittered cubic lattice block.
+struct RawPoints {
+  std::vector<Vec3> reference, displacement, velocity, force;
+  std::vector<double> volume;
+  std::set<std::pair<std::uint32_t, std::uint32_t>> bonds;  // intact, both orders
+
+  RawPoints(const Vec3& corner, int n, std::mt19937& rng) {
+    std::uniform_real_distribution<double> u(-0.3 * kSpacing, 0.3 * kSpacing);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        for (int k = 0; k < n; ++k) {
+          reference.push_back(corner + kSpacing * Vec3(i, j, k));
+          displacement.emplace_back(u(rng), u(rng), u(rng));
+          volume.push_back(kSpacing * kSpacing * kSpacing * (1 + 0.1 * u(rng) / kSpacing));
+        }
+    velocity.assign(reference.size(), Vec3::Zero());
+    force.assign(reference.size(), Vec3::Zero());
+  }
+  static bool bonded(const void* self, std::uint32_t i, std::uint32_t j) {
+    return static_cast<const RawPoints*>(self)->bonds.count({i, j}) > 0;
+  }
+  PointSet view(const char* name) {
+    PointSet p;
+    p.name = name;
+    p.horizon = kHorizon;
+    p.spacing = kSpacing;
+    p.density = 7850;
+    p.reference = reference;
+    p.displacement = displacement;
+    p.velocity = velocity;
+    p.volume = volume;
+    p.force_density = force;
+    p.bonds = {this, bonded};
+    return p;
+  }
+  Vec3 x(std::size_t i) const { return reference[i] + displacement[i]; }
+};
+
+ContactSettings settings(bool self_on_first) {
+  ContactSettings s;
+  s.present = true;
+  s.global.stiffness = kStiffness;
+  s.global.radius = kLc;
+  if (self_on_first) s.self_contact.push_back(0);
+  return s;
+}
+
+// All pairs: F^i = c (l_c - r) (x^i - x^j)/r V^i V^j, U = c V^i V^j (l_c - r)^2 / 2.
+double all_pairs(const std::vector<RawPoints*>& sets, bool self_on_first,
+                 std::vector<std::vector<Vec3>>& force) {
+  const double c = 9 * kStiffness / (M_PI * std::pow(kHorizon, 5));
+  double energy = 0;
+  force.clear();
+  for (const RawPoints* s : sets) force.emplace_back(s->reference.size(), Vec3::Zero());
+  for (std::size_t a = 0; a < sets.size(); ++a)
+    for (std::size_t b = a; b < sets.size(); ++b) {
+      if (a == b && !(a == 0 && self_on_first)) continue;
+      const RawPoints& A = *sets[a];
+      const RawPoints& B = *sets[b];
+      for (std::size_t i = 0; i < A.reference.size(); ++i)
+        for (std::size_t j = a == b ? i + 1 : 0; j < B.reference.size(); ++j) {
+          if (a == b &&
+              A.bonds.count({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)}))
+            continue;
+          const Vec3 d = A.x(i) - B.x(j);
+          const double r = d.norm();
+          if (r >= kLc) continue;
+          force[a][i] += c * (kLc - r) / r * B.volume[j] * d;
+          force[b][j] -= c * (kLc - r) / r * A.volume[i] * d;
+          energy += 0.5 * c * A.volume[i] * B.volume[j] * (kLc - r) * (kLc - r);
+        }
+    }
+  return energy;
+}
+
+// Three blocks, the second and third pressed into the first; bonds of the first between lattice
+// neighbours, a third of them failed.
+struct Blocks {
+  std::mt19937 rng{17};
+  RawPoints a{Vec3::Zero(), 5, rng}, b{Vec3(4.6e-3, 0.3e-3, 0), 4, rng},
+      c{Vec3(0.2e-3, 4.55e-3, 0.1e-3), 4, rng};
+  Blocks() {
+    for (std::uint32_t i = 0; i < a.reference.size(); ++i)
+      for (std::uint32_t j = 0; j < i; ++j)
+        if ((a.reference[i] - a.reference[j]).norm() < 1.5 * kSpacing && rng() % 3) {
+          a.bonds.insert({i, j});
+          a.bonds.insert({j, i});
+        }
+  }
+  std::vector<ContactBody> bodies() { return {{a.view("a")}, {b.view("b")}, {c.view("c")}}; }
+};
+
+}  // namespace
+
+TEST_CASE("contact on raw point arrays equals the all-pairs sum, self-contact by the bond query",
+          "[contact][point_set]") {
+  for (bool self : {false, true}) {
+    Blocks blocks;
+    ContactManager manager(blocks.bodies(), settings(self));
+    manager.add_forces();
+    std::vector<std::vector<Vec3>> reference;
+    const double energy = all_pairs({&blocks.a, &blocks.b, &blocks.c}, self, reference);
+    const RawPoints* sets[] = {&blocks.a, &blocks.b, &blocks.c};
+    double largest = 0;
+    for (const auto& f : reference)
+      for (const Vec3& v : f) largest = std::max(largest, v.norm());
+    REQUIRE(largest > 0);
+    for (int s = 0; s < 3; ++s)
+      for (std::size_t i = 0; i < reference[s].size(); ++i)
+        REQUIRE((sets[s]->force[i] - reference[s][i]).norm() <= 1e-12 * largest);
+    CHECK(manager.energy() == Approx(energy).epsilon(1e-12));
+    CHECK(manager.statistics().touching_pairs >= 2u);  // a-b and a-c; a-a when a gap is open
+  }
+}
+
+TEST_CASE("a rebind to moved arrays is what the next evaluation reads", "[contact][point_set]") {
+  Blocks blocks;
+  ContactManager manager(blocks.bodies(), settings(false));
+  manager.add_forces();
+  // Replace b's arrays by copies moved 3 mm away: no contact with them, none left.
+  RawPoints moved = blocks.b;
+  for (Vec3& u : moved.displacement) u.x() += 3e-3;
+  std::vector<PointSet> views = {blocks.a.view("a"), moved.view("b"), blocks.c.view("c")};
+  manager.rebind(views);
+  std::fill(moved.force.begin(), moved.force.end(), Vec3::Zero());
+  manager.add_forces();
+  for (const Vec3& f : moved.force) REQUIRE(f.isZero());
+  views[1].reference = views[1].reference.first(3);
+  CHECK_THROWS_AS(manager.rebind(views), std::invalid_argument);
+}
+
+TEST_CASE("contact on raw arrays gives the same bits on one and two threads, loops parallel",
+          "[contact][point_set]") {
+  const ScopedParallelThresholds every_loop_parallel(0);
+  const int before = omp_get_max_threads();
+  std::vector<Vec3> result[2][3];
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    Blocks blocks;
+    ContactManager manager(blocks.bodies(), settings(true));
+    manager.add_forces();
+    result[threads - 1][0] = blocks.a.force;
+    result[threads - 1][1] = blocks.b.force;
+    result[threads - 1][2] = blocks.c.force;
+  }
+  omp_set_num_threads(before);
+  for (int s = 0; s < 3; ++s) REQUIRE(result[0][s] == result[1][s]);
+}
