@@ -49,6 +49,11 @@ void check_definition(const BodyDefinition& d) {
     msg << who << "an inversion penalty needs the " << (d.dimension == 3 ? "three" : "two")
         << "-neighbour interactions, which this material does not have (C"
         << (d.dimension == 3 ? "3" : "2") << " = 0 because lambda = mu)";
+  } else if (!std::isfinite(d.strain_measure)) {
+    msg << who << "strain measure m must be a finite number, got " << d.strain_measure;
+  } else if (d.strain_measure != 0.5 && d.model != nullptr) {
+    msg << who << "a strain measure (m = " << d.strain_measure
+        << ") is a CKPD option; this body's force model is " << d.model->name;
   } else if (d.dimension == 2 && d.constants.c3 != 0) {
     msg << who << "a 2D body has no three-neighbour interactions (C3 must be 0)";
   } else {
@@ -141,6 +146,8 @@ Body make_body(BodyDefinition def) {
   body.inversion_penalty = def.inversion_penalty;
   body.damage_rule = def.damage_rule;
   body.model = def.model;
+  body.strain_measure = def.strain_measure;
+  if (def.model == nullptr && def.strain_measure != 0.5) body.model = &ckpd_seth_hill_kernels();
   body.reference_position = std::move(def.reference_position);
   body.volume = std::move(def.volume);
   body.no_failure = std::move(def.no_failure);

@@ -81,6 +81,9 @@ struct BodyDefinition {
   DamageRule damage_rule = DamageRule::centre_bonds;
   // The force model (force_model.hpp); null: CKPD. `constants` are its per-family constants.
   const ForceModelKernels* model = nullptr;
+  // The CKPD model's Seth-Hill strain measure m (ckpd_model.hpp): 1/2 is e = l/L - 1 (the
+  // default law); any other m, finite, selects the Seth-Hill CKPD kernels. CKPD only.
+  double strain_measure = 0.5;
 };
 
 // The symmetric kernel's degeneracy screens (symmetric_kernel.hpp), fixed by the reference
@@ -104,6 +107,7 @@ struct Body {
   double inversion_penalty = 0;                       // BodyDefinition::inversion_penalty
   DamageRule damage_rule = DamageRule::centre_bonds;  // BodyDefinition::damage_rule
   const ForceModelKernels* model = nullptr;           // BodyDefinition::model (null: CKPD)
+  double strain_measure = 0.5;                        // BodyDefinition::strain_measure
 
   // Reference data per point, fixed for the run.
   std::vector<Vec3> reference_position;

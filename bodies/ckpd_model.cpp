@@ -9,4 +9,8 @@ const ForceModelKernels& ckpd_kernels() {
   return kernels_of<CkpdModel>();
 }
 
+const ForceModelKernels& ckpd_seth_hill_kernels() {
+  return kernels_of<CkpdSethHillModel>();
+}
+
 }  // namespace ckpd

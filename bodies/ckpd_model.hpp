@@ -29,6 +29,17 @@
 //
 // Damage: a bond fails for good when its stretch exceeds the critical stretch
 // (bond_fails); which sets a failed bond switches off is the body's DamageRule.
+//
+// Strain measure (Tupek and Radovitzky, seed 002; `strain_measure: {m: M}` on a material): with
+// the ratio r = m/R the law above is psi = C R e^2 / 2 with e = r - 1. The Seth-Hill family puts
+//   e_m(r) = (r^(2m) - 1) / (2m),  e_0(r) = log r,   (c = r^2: e_m = (c^m - 1)/(2m))
+// in its place, so dpsi/dm = C e_m(r) r^(2m - 1) (the `strain_factor`, written in place of
+// r - 1 in every coefficient) and, since e_m(1) = 0 and e_m'(1) = 1 for every m, the constants
+// and the linearisation at the reference state (hence the stiffness bound and stable step) are
+// unchanged. m = 1/2 is e = r - 1; for m <= 0 the energy grows without bound as a set collapses
+// (r -> 0). The default law (LinearStrain, m = 1/2) is its own instantiation, CkpdModel, whose
+// floating-point operations are today's; any other m is CkpdSethHillModel, which evaluates
+// log1p/expm1 per set. The damage rule stays the bond stretch l/L - 1 for every m.
 #include <cmath>
 #include <limits>
 
@@ -37,7 +48,32 @@
 
 namespace ckpd {
 
-struct CkpdModel {
+// e = r - 1: today's law, evaluated in the forms written below (no pow, no log).
+struct LinearStrain {
+  static constexpr bool kLinear = true;
+  static LinearStrain of(double /*m*/) { return {}; }
+};
+
+// The Seth-Hill measure e_m (m != 1/2 in use; m = 1/2 is exact here too, only slower).
+struct SethHillStrain {
+  static constexpr bool kLinear = false;
+  double m = 0.5;
+  static SethHillStrain of(double m) { return {m}; }
+  // e_m(r), from d = r - 1 (log1p and expm1 keep it accurate at small strain).
+  double strain(double d) const {
+    const double lr = std::log1p(d);
+    return m == 0 ? lr : std::expm1(2 * m * lr) / (2 * m);
+  }
+  // e_m(r) e_m'(r) = e_m(r) r^(2m - 1): dpsi/dm per unit C, in place of r - 1.
+  double factor(double d) const {
+    const double lr = std::log1p(d);
+    const double e = m == 0 ? lr : std::expm1(2 * m * lr) / (2 * m);
+    return e * std::exp((2 * m - 1) * lr);
+  }
+};
+
+template <class Strain>
+struct CkpdLaw {
   static constexpr const char* kName = "ckpd";
   // The families this model can have (each is built only when its constant is non-zero).
   static constexpr bool kTriangles = true, kTetrahedra = true;
@@ -47,19 +83,25 @@ struct CkpdModel {
   double pen2 = 0, pen3 = 0;
   bool planar = false;  // 2D body: a triangle's orientation is the sign of its area's z
   double critical_stretch = std::numeric_limits<double>::infinity();
+  Strain strain{};
 
-  CkpdModel() = default;
-  CkpdModel(const InteractionConstants& c, double inversion_penalty, bool planar_body,
-            double critical)
-      : c1(c.c1), c2(c.c2), c3(c.c3), planar(planar_body), critical_stretch(critical) {
+  CkpdLaw() = default;
+  CkpdLaw(const InteractionConstants& c, double inversion_penalty, bool planar_body,
+          double critical, double strain_measure = 0.5)
+      : c1(c.c1),
+        c2(c.c2),
+        c3(c.c3),
+        planar(planar_body),
+        critical_stretch(critical),
+        strain(Strain::of(strain_measure)) {
     pen2 = c2 != 0 ? 2 * inversion_penalty * (c2 > 0 ? 1.0 : -1.0) : 0.0;
     pen3 = c3 != 0 ? 2 * inversion_penalty * (c3 > 0 ? 1.0 : -1.0) : 0.0;
   }
-  // The model of a body (its constants, penalty, dimension and critical stretch).
+  // The model of a body (its constants, penalty, dimension, critical stretch, strain measure).
   template <class BodyT>
-  static CkpdModel of(const BodyT& body) {
-    return CkpdModel(body.constants, body.inversion_penalty, body.dimension == 2,
-                     body.critical_stretch);
+  static CkpdLaw of(const BodyT& body) {
+    return CkpdLaw(body.constants, body.inversion_penalty, body.dimension == 2,
+                   body.critical_stretch, body.strain_measure);
   }
   bool has_triangles() const { return c2 != 0; }
   bool has_tetrahedra() const { return c3 != 0; }
@@ -70,10 +112,22 @@ struct CkpdModel {
   // with its own dV1^j).
   template <class Measure>
   double bond_coefficient(const Measure& L, double l) const {
-    return c1 * (L.inverse() - 1 / l);
+    if constexpr (Strain::kLinear) {
+      return c1 * (L.inverse() - 1 / l);
+    } else {
+      return c1 * strain.factor(L.over(l) - 1) / l;
+    }
   }
-  // psi1 = C1 L s^2 / 2 of one ordered bond (s its stretch); W1 sums psi1 dV1.
-  double bond_energy(double L, double stretch) const { return 0.5 * c1 * L * stretch * stretch; }
+  // psi1 = C1 L s^2 / 2 of one ordered bond (s its stretch; e_m(1 + s) in its place); W1 sums
+  // psi1 dV1.
+  double bond_energy(double L, double stretch) const {
+    if constexpr (Strain::kLinear) {
+      return 0.5 * c1 * L * stretch * stretch;
+    } else {
+      const double e = strain.strain(stretch);
+      return 0.5 * c1 * L * e * e;
+    }
+  }
   double bond_stretch(double L, double l) const { return l / L - 1; }
   // The damage rule: a bond fails for good once its stretch exceeds the critical stretch.
   bool bond_fails(double stretch) const { return stretch > critical_stretch; }
@@ -101,7 +155,13 @@ struct CkpdModel {
   // triangle (|a| = 0). Inverted (kPenalty): + pen2 / |a|.
   template <bool kPenalty, class Measure>
   double triangle_coefficient(const Measure& A, double an, bool inverted) const {
-    double f = A.inverse() - (an > 0 ? 1 / an : 0.0);
+    double f;
+    if constexpr (Strain::kLinear) {
+      f = A.inverse() - (an > 0 ? 1 / an : 0.0);
+    } else {
+      // A collapsed triangle (|a| = 0) has no direction to push along: no force, as for m = 1/2.
+      f = an > 0 ? strain.factor(A.over(an) - 1) / an : 0.0;
+    }
     if constexpr (kPenalty) {
       if (inverted) f += pen2 / an;
     }
@@ -110,7 +170,8 @@ struct CkpdModel {
   // A (|a|/A - 1)^2 (+ 2 pen2 |a| when inverted): psi2 per unit C2 / 2.
   template <bool kPenalty, class Measure>
   double triangle_energy_measure(const Measure& A, double an, bool inverted) const {
-    const double e = A.over(an) - 1;
+    double e = A.over(an) - 1;
+    if constexpr (!Strain::kLinear) e = strain.strain(e);
     double en = A.times_square(e);
     if constexpr (kPenalty) {
       if (inverted) en += 2 * pen2 * an;
@@ -158,7 +219,13 @@ struct CkpdModel {
   // Inverted (kPenalty): + pen3 sign v.
   template <bool kPenalty, class Measure>
   double tetrahedron_coefficient(const Measure& V, double v, bool inverted) const {
-    double f = V.over(v) - sign_of(v);
+    double f;
+    if constexpr (Strain::kLinear) {
+      f = V.over(v) - sign_of(v);
+    } else {
+      // A collapsed tetrahedron (v = 0) has no direction to push along, as for triangles.
+      f = v != 0 ? strain.factor(V.over(std::abs(v)) - 1) * sign_of(v) : 0.0;
+    }
     if constexpr (kPenalty) {
       if (inverted) f += pen3 * sign_of(v);
     }
@@ -167,7 +234,8 @@ struct CkpdModel {
   // |V| (|v|/|V| - 1)^2 (without the penalty: tetrahedron_penalty_measure).
   template <class Measure>
   double tetrahedron_energy_measure(const Measure& V, double v) const {
-    const double e = V.over(std::abs(v)) - 1;
+    double e = V.over(std::abs(v)) - 1;
+    if constexpr (!Strain::kLinear) e = strain.strain(e);
     return V.times_square(e);
   }
   double tetrahedron_penalty_measure(double v) const { return 2 * pen3 * std::abs(v); }
@@ -204,5 +272,9 @@ struct CkpdModel {
     return {1, std::abs(signed_V), {-s * (hj + hk + hl), s * hj, s * hk, s * hl}};
   }
 };
+
+// The default CKPD law (m = 1/2, today's arithmetic) and the Seth-Hill one (any m).
+using CkpdModel = CkpdLaw<LinearStrain>;
+using CkpdSethHillModel = CkpdLaw<SethHillStrain>;
 
 }  // namespace ckpd

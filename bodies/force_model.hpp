@@ -36,6 +36,8 @@ struct ForceModelKernels {
 
 // The CKPD model's table (the default of every body).
 const ForceModelKernels& ckpd_kernels();
+// The CKPD model with a Seth-Hill strain measure m != 1/2 (Body::strain_measure).
+const ForceModelKernels& ckpd_seth_hill_kernels();
 
 // The table of a body's model.
 const ForceModelKernels& force_model(const Body& body);

@@ -12,7 +12,8 @@ namespace ckpd {
 
 namespace {
 
-BodyDefinition lattice_block(int dimension, double m, InteractionConstants constants) {
+BodyDefinition lattice_block(int dimension, double m, InteractionConstants constants,
+                             double strain_measure = 0.5) {
   const int h = static_cast<int>(std::ceil(m)) + 1;
   BodyDefinition d;
   d.name = "patch";
@@ -20,6 +21,7 @@ BodyDefinition lattice_block(int dimension, double m, InteractionConstants const
   d.density = 1;
   d.horizon = m;
   d.constants = constants;
+  d.strain_measure = strain_measure;
   const int zr = dimension == 3 ? h : 0;
   std::size_t full = 0;
   // The centre point first, so it has index 0.
@@ -74,7 +76,7 @@ PatchTestResult run_patch_test(int dimension, double m, double E, double nu, Pla
 }
 
 PatchTestResult run_patch_test(int dimension, double m, double E, double nu, PlaneMode plane,
-                               const InteractionConstants& c, double eps) {
+                               const InteractionConstants& c, double eps, double strain_measure) {
   if (!(m >= 1)) throw std::invalid_argument("horizon ratio m must be at least 1");
   const ElasticModuli moduli = elastic_moduli(dimension, E, nu, plane);
 
@@ -86,7 +88,7 @@ PatchTestResult run_patch_test(int dimension, double m, double E, double nu, Pla
     r.n2 = counter.n2[0];
     r.n3 = counter.n3[0];
   }
-  const Body body = make_body(lattice_block(dimension, m, c));
+  const Body body = make_body(lattice_block(dimension, m, c, strain_measure));
   r.volumetric = energy_ratio(body, volumetric_strain(dimension, eps), moduli);
   Eigen::Matrix3d e = Eigen::Matrix3d::Zero();
   e(0, 1) = e(1, 0) = eps;

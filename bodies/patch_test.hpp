@@ -20,10 +20,12 @@ struct PatchTestResult {
 PatchTestResult run_patch_test(int dimension, double horizon_ratio, double youngs_modulus,
                                double poisson_ratio, PlaneMode plane, double strain = 1e-6);
 
-// The same test with given constants (for the unit lattice: spacing 1, horizon m).
+// The same test with given constants (for the unit lattice: spacing 1, horizon m) and the CKPD
+// strain measure (BodyDefinition::strain_measure; 1/2: l/L - 1).
 PatchTestResult run_patch_test(int dimension, double horizon_ratio, double youngs_modulus,
                                double poisson_ratio, PlaneMode plane,
-                               const InteractionConstants& constants, double strain = 1e-6);
+                               const InteractionConstants& constants, double strain = 1e-6,
+                               double strain_measure = 0.5);
 
 // Calibrated constants: C1 and C3 (3D) or C1 and C2 (2D) chosen so that an interior point of the
 // cubic (square) lattice of this spacing and horizon has exactly the continuum's strain-energy

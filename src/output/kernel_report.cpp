@@ -20,7 +20,10 @@ std::string general_reason(const Body& body) {
 
 std::string kernel_path_note(const Body& body) {
   std::ostringstream os;
-  os << force_model(body).name << " model, ";
+  os << force_model(body).name << " model";
+  if (body.model == nullptr || body.strain_measure != 0.5)
+    os << " (strain measure m = " << body.strain_measure << ")";
+  os << ", ";
   if (uses_lattice_stencil(body)) {
     const LatticeStencil& st = *body.stencil;
     os << "lattice stencil (" << st.slots << " offsets, " << st.pairs << " pairs, " << st.triples
@@ -33,9 +36,15 @@ std::string kernel_path_note(const Body& body) {
 
 nlohmann::ordered_json kernel_path_summary(const Body& body) {
   const char* model = force_model(body).name;
+  nlohmann::ordered_json j;
   if (uses_lattice_stencil(body))
-    return {{"model", model}, {"path", "stencil"}, {"stencil_bytes", body.stencil->bytes()}};
-  return {{"model", model}, {"path", "general"}, {"note", general_reason(body)}};
+    j = {{"model", model}, {"path", "stencil"}, {"stencil_bytes", body.stencil->bytes()}};
+  else
+    j = {{"model", model}, {"path", "general"}, {"note", general_reason(body)}};
+  // CKPD bodies (the default law and the Seth-Hill one) report their strain measure.
+  if (body.model == nullptr || body.strain_measure != 0.5)
+    j["strain_measure"] = {{"m", body.strain_measure}};
+  return j;
 }
 
 }  // namespace ckpd

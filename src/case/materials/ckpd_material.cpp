@@ -1,6 +1,9 @@
 // `model: ckpd` (the default): E and nu give C1, C2, C3 (MODEL.md section 3) or, with
 // `constants: calibrated` on the body, the lattice's calibrated constants (bodies/patch_test.hpp);
-// the critical stretch is given or follows from the fracture energy (MODEL.md section 4).
+// the critical stretch is given or follows from the fracture energy (MODEL.md section 4);
+// `strain_measure: {m: M}` (default m = 1/2, e = l/L - 1) selects the Seth-Hill strain measure
+// of every family (bodies/ckpd_model.hpp).
+#include <cmath>
 #include <optional>
 
 #include "bodies/material.hpp"
@@ -25,10 +28,19 @@ class CkpdMaterial : public MaterialModel {
     if (auto s = m.optional("critical_stretch")) critical_stretch_ = s->as_positive();
     if (fracture_energy_ && critical_stretch_)
       m.fail("either fracture_energy or critical_stretch, not both");
+    if (auto sm = m.optional("strain_measure")) {
+      if (!sm->is_map()) sm->fail("a map {m: M} (the Seth-Hill exponent, e.g. {m: 0})");
+      const CaseNode exponent = sm->required("m");
+      strain_measure_ = exponent.as_double();
+      if (!std::isfinite(strain_measure_))
+        exponent.fail("a finite number (the Seth-Hill exponent m; 0.5 is l/L - 1, 0 is log)");
+      sm->finish();
+    }
   }
 
   void define(BodyDefinition& def, const MaterialTarget& t) const override {
     def.model = nullptr;  // CKPD
+    def.strain_measure = strain_measure_;
     def.constants =
         interaction_constants(t.dimension, youngs_modulus_, poisson_ratio_, t.plane, t.horizon);
     if (t.calibrated)
@@ -44,6 +56,7 @@ class CkpdMaterial : public MaterialModel {
 
  private:
   double youngs_modulus_ = 0, poisson_ratio_ = 0;
+  double strain_measure_ = 0.5;
   std::optional<double> fracture_energy_, critical_stretch_;
 };
 
