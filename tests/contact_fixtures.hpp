@@ -5,8 +5,8 @@
 #include <string>
 
 #include "run_helpers.hpp"
-#include "src/engine/simulation.hpp"
 #include "src/case/case_loader.hpp"
+#include "src/engine/simulation.hpp"
 
 namespace ckpd::testing {
 

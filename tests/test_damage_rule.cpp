@@ -22,8 +22,8 @@
 #include "kernel_comparison.hpp"
 #include "reference/internal_force.hpp"
 #include "run_helpers.hpp"
-#include "src/engine/simulation.hpp"
 #include "src/case/case_loader.hpp"
+#include "src/engine/simulation.hpp"
 
 using ckpd::Body;
 using ckpd::DamageRule;

@@ -11,8 +11,8 @@
 #include "bodies/patch_test.hpp"
 #include "reference/internal_force.hpp"
 #include "run_helpers.hpp"
-#include "src/engine/simulation.hpp"
 #include "src/case/case_loader.hpp"
+#include "src/engine/simulation.hpp"
 
 using namespace ckpd;
 using namespace ckpd::testing;

@@ -121,9 +121,9 @@ void RunDriver::stop(const std::string& status, const std::string& message) {
   if (!options_.out.empty()) write_json(options_.out + "/summary.json", summary(status, message));
   if (status == "completed") {
     std::ostringstream line;
-    line << "completed " << sim_.step() << " steps to t = " << sim_.time() << " s in "
-         << seconds() << " s; peak RSS " << peak_rss_mb() << " MB; max damage "
-         << sim_.max_damage() << "; results in " << options_.out;
+    line << "completed " << sim_.step() << " steps to t = " << sim_.time() << " s in " << seconds()
+         << " s; peak RSS " << peak_rss_mb() << " MB; max damage " << sim_.max_damage()
+         << "; results in " << options_.out;
     log(line.str());
   } else {
     log("stopped (" + status + "): " + message);

@@ -18,7 +18,7 @@ class CkpdMaterial : public MaterialModel {
  public:
   explicit CkpdMaterial(const CaseNode& m) {
     density_ = m.required("density").as_in_range(kMinDensity, kMaxDensity,
-                                                  "a density in kg/m^3 (kg/m^2 in 2D)");
+                                                 "a density in kg/m^3 (kg/m^2 in 2D)");
     youngs_modulus_ = m.required("youngs_modulus")
                           .as_in_range(kMinModulus, kMaxModulus, "a Young's modulus in Pa");
     const CaseNode nu = m.required("poisson_ratio");

@@ -16,7 +16,7 @@ class PmbMaterial : public MaterialModel {
  public:
   explicit PmbMaterial(const CaseNode& m) {
     density_ = m.required("density").as_in_range(kMinDensity, kMaxDensity,
-                                                  "a density in kg/m^3 (kg/m^2 in 2D)");
+                                                 "a density in kg/m^3 (kg/m^2 in 2D)");
     micromodulus_ = m.required("micromodulus").as_positive();
     if (!std::isfinite(micromodulus_) || micromodulus_ > 1e40)
       m.required("micromodulus").fail("a micromodulus in N/m^6 of at most 1e40");

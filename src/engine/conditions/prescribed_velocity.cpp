@@ -81,9 +81,8 @@ const bool fixed_registered =
       const int dim = t.body.dimension;
       auto points = select_points(n.optional("region"), t);
       const std::uint8_t components = read_prescribed_components(n.optional("components"), dim);
-      return std::unique_ptr<Condition>(
-          new PrescribedVelocity(std::move(points), TimeTable(Vec3::Zero()), components, 0.0,
-                                 false));
+      return std::unique_ptr<Condition>(new PrescribedVelocity(
+          std::move(points), TimeTable(Vec3::Zero()), components, 0.0, false));
     });
 
 }  // namespace
