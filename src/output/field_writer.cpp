@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "src/engine/contact_coupling.hpp"
 #include "src/output/hdf5_io.hpp"
 
 namespace ckpd {
@@ -58,7 +59,7 @@ bool wall_field(const std::string& name) {
 void write_wall_group(hid_t group, const SceneBody& sb, std::size_t b,
                       const std::vector<std::string>& fields) {
   const TriangleMesh& surface = *sb.wall_surface;
-  const MeshWall::Pose pose = sb.wall->pose(sb.body);
+  const MeshWall::Pose pose = sb.wall->pose(point_set(sb));
   const Vec3& c0 = sb.wall->carriers().centre;
   const std::size_t n = surface.vertex.size();
   std::vector<Vec3> x(n);
