@@ -121,7 +121,7 @@ TEST_CASE("an unknown contact law is rejected with the known ones listed", "[cli
                    "linear_dashpot", "repulsive", "'hooke'"});
 }
 
-TEST_CASE("a contact law's parameters are checked: e in (0, 1], mu >= 0, none missing",
+TEST_CASE("a contact law's parameters are checked: 0 < e <= 1, mu >= 0, none missing",
           "[cli][contact][dem]") {
   const std::string dashpot = "{bodies: [ball, block], skin: 0.0005, law: linear_dashpot, ";
   expect_rejected(
