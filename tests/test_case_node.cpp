@@ -42,11 +42,11 @@ TEST_CASE("typed reads return the values and name file, line and key path when w
 TEST_CASE("a missing required key and a wrong vector length are errors naming the key",
           "[case_node]") {
   const CaseNode root = parse("a: {v: [1, 2]}\n");
-  CHECK(error_of([&] { root.required("b"); }).find("missing required key 'b'") !=
+  CHECK(error_of([&] { root.required("velocity"); }).find("missing required key 'velocity'") !=
         std::string::npos);
   CHECK(error_of([&] { root.required("a").required("v").as_vector(3); }).find("a.v") !=
         std::string::npos);
-  CHECK_FALSE(root.optional("b").has_value());
+  CHECK_FALSE(root.optional("velocity").has_value());
   CHECK(root.has("a"));
 }
 

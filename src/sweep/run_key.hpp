@@ -12,7 +12,7 @@ namespace ckpd::sweep {
 // finished run of earlier sweeps.
 inline constexpr const char* kPhysicsVersion = "ckpd-physics-1";
 
-std::uint64_t fnv1a(const std::string& text, std::uint64_t h = 1469598103934665603ull);
+std::uint64_t fnv1a(const std::string& text, std::uint64_t h = 14695981039346656037ull);
 std::string hex16(std::uint64_t h);
 
 // Hash of the resolved case (the base case with the run's overrides applied, re-emitted so that
