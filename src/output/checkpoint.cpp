@@ -296,9 +296,11 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
     require_finite(path, "the dissipated energy", c.dissipated);
     require_finite(path, "the strain energy", c.strain_energy);
     require_finite(path, "the initial total energy", c.initial_total);
-    // The time is the sum of `step` steps of dt, up to round-off.
-    if (c.step < 0 || !(c.time >= 0) ||
-        std::abs(c.time - static_cast<double>(c.step) * dt) > 1e-6 * std::max(c.time, dt))
+    // The time is the sum of `step` steps of dt, up to round-off, except that the last step of a
+    // run may be shortened to land on time.end: (step - 1) dt < time <= step dt.
+    const double full = static_cast<double>(c.step) * dt, slack = 1e-6 * std::max(c.time, dt);
+    if (c.step < 0 || !(c.time >= 0) || c.time > full + slack ||
+        (c.step > 0 && c.time <= full - dt - slack))
       throw CheckpointError(
           path + ": step " + std::to_string(c.step) + " and time " + format_seconds(c.time) +
           " s do not agree with dt = " + format_seconds(dt) + " s (corrupted checkpoint)");
