@@ -50,6 +50,11 @@ std::optional<PairLaw> ContactSettings::law(const std::vector<ContactBody>& bodi
   // The law's parameters: the global ones it knows, overridden by the pair's own.
   LawInputs inputs;
   inputs.radius = law.radius;
+  for (int k = 0; k < 2; ++k) {
+    const ContactBody& body = k == 0 ? A : B;
+    inputs.side[k] = {std::string(body.points.name), body.rigid, body.wall != nullptr,
+                      body.elastic};
+  }
   for (const LawParameter& parameter : type->parameters) {
     const ContactConstants* from =
         own && own->constants.parameters.count(parameter.key)
@@ -78,7 +83,8 @@ std::optional<PairLaw> ContactSettings::law(const std::vector<ContactBody>& bodi
   if (!(ha > 0) || !(hb > 0))
     throw std::invalid_argument("contact between rigid bodies '" + std::string(A.points.name) +
                                 "' and '" + std::string(B.points.name) +
-                                "' needs a horizon (delta of 9 Ccon/(pi delta^5))");
+                                "' needs a horizon (delta of 9 Ccon/(pi delta^5)): give `horizon` "
+                                "for the pair or for all contact");
   law.coefficient[0] = contact_coefficient(law.stiffness, ha);
   law.coefficient[1] = contact_coefficient(law.stiffness, hb);
   return finish();

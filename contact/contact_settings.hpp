@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "contact/contact_law.hpp"
+#include "contact/dem_law.hpp"
 #include "contact/point_set.hpp"
 
 namespace ckpd {
@@ -22,6 +23,7 @@ struct ContactBody {
   // A mesh wall (mesh_wall.hpp): its points are the six carriers of its motion, not contact
   // points; its partners' points meet its surface instead.
   const MeshWall* wall = nullptr;
+  std::optional<ElasticConstants> elastic;  // E and nu of its material (dem_law.hpp), if known
 };
 
 // The default l_c over the larger lattice spacing of the two bodies. THEORY.md suggests about

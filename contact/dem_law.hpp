@@ -23,10 +23,18 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace ckpd {
+
+// A body's elastic constants, for laws that need them (hertz_mindlin): a deformable body's from
+// its material, a rigid body's or mesh wall's from its own `rigid:` keys (or its material).
+struct ElasticConstants {
+  double youngs_modulus = 0;  // Pa
+  double poisson_ratio = 0;
+};
 
 // One side of a point pair as a law sees it. A wall side has infinite mass and no volume.
 struct LawPoint {
@@ -77,6 +85,13 @@ struct LawInputs {
   std::map<std::string, std::vector<double>> parameters;  // resolved for the pair, validated
   double radius = 0;                                      // l_c
   double coefficient = 0;  // mean 9 Ccon/(pi delta^5) of the pair (laws that need a stiffness)
+  // The two bodies of the pair (side 0, side 1), for laws that use their materials.
+  struct Side {
+    std::string name;
+    bool rigid = false, wall = false;
+    std::optional<ElasticConstants> elastic;
+  };
+  Side side[2];
 };
 
 struct LawType {

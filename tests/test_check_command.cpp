@@ -46,3 +46,24 @@ TEST_CASE("check rejects a bad case like run does", "[cli]") {
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("bodies[0].spacing") != std::string::npos);
 }
+
+TEST_CASE("check prints a rigid body as rigid, without peridynamic fields", "[cli]") {
+  const auto dir = fresh_dir("check-rigid");
+  std::string text = kCase;
+  text.replace(text.find("time:"), 0,
+               "  - {name: ball, rigid: {motion: free, mass: 0.1, velocity: [0, 0, -1]},\n"
+               "     geometry: {type: sphere, center: [0.0025, 0.0025, 0.009], radius: 0.002},\n"
+               "     spacing: 0.001}\ncontact: {stiffness: 1e9}\n");
+  const std::string file = write_file(dir / "case.yaml", text);
+  const CommandResult r = run_ckpd("check " + file + " --steps 1");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const std::size_t at = r.output.find("body 'ball'");
+  REQUIRE(at != std::string::npos);
+  const std::string line = r.output.substr(at, r.output.find('\n', at) - at);
+  CHECK(line.find("rigid, free motion, mass 0.1 kg, 3D") != std::string::npos);
+  CHECK(line.find("horizon") == std::string::npos);
+  CHECK(line.find("bonds") == std::string::npos);
+  // The next line belongs to the next section, not a kernel note of the rigid body.
+  CHECK(r.output.find("kernel:", at) > r.output.find("stable step:", at));
+}

@@ -139,7 +139,8 @@ TEST_CASE("a contact law's parameters are checked: 0 < e <= 1, mu >= 0, none mis
   expect_rejected(
       replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}",
               "{bodies: [ball, block], law: hertz_mindlin, restitution: 0.5, poisson_ratio: 0.3}"),
-      {"case.yaml:15: contact.pairs[0]", "`youngs_modulus` for contact law `hertz_mindlin`"});
+      {"case.yaml:15: contact.pairs[0]", "hertz_mindlin", "of body 'block', a rigid body",
+       "`youngs_modulus` and `poisson_ratio` in its `rigid` section"});
   // A parameter of another law than the one in effect.
   expect_rejected(replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}",
                           "{bodies: [ball, block], skin: 0.0005, friction: 0.3}"),
@@ -163,4 +164,32 @@ TEST_CASE("a case with contact laws and friction runs and reports them", "[cli][
   CHECK(summary["contact"]["laws"][0]["law"] == "linear_dashpot");
   CHECK(summary["contact"]["laws"][0]["damping_ratio"].get<double>() ==
         Approx(-std::log(0.5) / std::sqrt(M_PI * M_PI + std::log(0.5) * std::log(0.5))));
+}
+
+TEST_CASE("hertz_mindlin reads E and nu of a rigid body from its rigid section",
+          "[cli][contact][dem]") {
+  const std::string hertz =
+      replace(kGoodCase, "{bodies: [ball, block], skin: 0.0005}",
+              "{bodies: [ball, block], skin: 0.0005, law: hertz_mindlin, restitution: 0.5}");
+  // Bad values and a second source are refused with the key.
+  expect_rejected(replace(hertz, "rigid: {motion: free, mass: 0.01}",
+                          "rigid: {motion: free, mass: 0.01, youngs_modulus: 200e9, "
+                          "poisson_ratio: 0.7}"),
+                  {"case.yaml:8: bodies[1].rigid.poisson_ratio", "Poisson's ratio in (-1, 0.5)"});
+  expect_rejected(replace(hertz, "rigid: {motion: free, mass: 0.01}",
+                          "rigid: {motion: free, mass: 0.01, youngs_modulus: 200e9}"),
+                  {"case.yaml:8: bodies[1].rigid", "poisson_ratio"});
+  expect_rejected(replace(hertz, "rigid: {motion: free, mass: 0.01}",
+                          "rigid: {motion: free, youngs_modulus: 200e9, poisson_ratio: 0.3}\n"
+                          "    material: steel"),
+                  {"bodies[1].rigid.youngs_modulus", "or a material (its E and nu), not both"});
+  // With both keys the case runs.
+  const auto dir = fresh_dir("hertz-rigid");
+  const std::string file = write_file(
+      dir / "case.yaml", replace(hertz, "rigid: {motion: free, mass: 0.01}",
+                                 "rigid: {motion: free, mass: 0.01, youngs_modulus: 200e9, "
+                                 "poisson_ratio: 0.3}"));
+  const CommandResult r = run_ckpd("run " + file + " --quiet --out " + (dir / "out").string());
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
 }

@@ -107,7 +107,13 @@ struct Blocks {
           a.bonds.insert({j, i});
         }
   }
-  std::vector<ContactBody> bodies() { return {{a.view("a")}, {b.view("b")}, {c.view("c")}}; }
+  std::vector<ContactBody> bodies() {
+    std::vector<ContactBody> v(3);
+    v[0].points = a.view("a");
+    v[1].points = b.view("b");
+    v[2].points = c.view("c");
+    return v;
+  }
 };
 
 }  // namespace

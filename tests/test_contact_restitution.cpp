@@ -7,7 +7,9 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "contact/laws/hertz_mindlin.hpp"
 #include "dem_fixtures.hpp"
+#include "src/engine/contact_coupling.hpp"
 
 using namespace ckpd;
 using namespace ckpd::testing;
@@ -124,5 +126,113 @@ TEST_CASE("hertz_mindlin: Hertz's force-overlap law, deepest overlap and contact
     CHECK(r.deepest == Approx(deepest).epsilon(0.01));
     CHECK(r.duration == Approx(duration).epsilon(0.01));
     CHECK(r.restitution == Approx(1).epsilon(0.005));
+  }
+}
+
+namespace {
+
+// A one-point rigid sphere with the elastic constants of its material.
+SceneBody elastic_point(const std::string& name, const Vec3& at, const Vec3& velocity, double E,
+                        double nu) {
+  SceneBody sb = rigid_points(name, {at}, kVolume, velocity);
+  sb.elastic = ElasticConstants{E, nu};
+  return sb;
+}
+
+double contact_time(double modulus, double radius, double mass, double speed) {
+  return hertz::duration_factor() * hertz::max_overlap(modulus, radius, mass, speed) / speed;
+}
+
+}  // namespace
+
+TEST_CASE("hertz_mindlin takes E and nu from both bodies: Hertz's force and contact time",
+          "[contact][dem][hertz]") {
+  const double E1 = 200e9, nu1 = 0.3, E2 = 70e9, nu2 = 0.33;
+  // E* of two different sides, the textbook way.
+  const double modulus = 1 / ((1 - nu1 * nu1) / E1 + (1 - nu2 * nu2) / E2);
+  const ContactSettings law = dem_settings("hertz_mindlin", {{"restitution", {1.0}}}, kLc);
+
+  SECTION("force against overlap") {
+    const double overlap = 1e-5;
+    std::vector<SceneBody> bodies;
+    bodies.push_back(elastic_point("a", Vec3(-0.5 * (kLc - overlap), 0, 0), Vec3::Zero(), E1, nu1));
+    bodies.push_back(elastic_point("b", Vec3(0.5 * (kLc - overlap), 0, 0), Vec3::Zero(), E2, nu2));
+    Scene scene = dem_scene(std::move(bodies), law, 1e-9, 1);
+    Simulation sim(scene);
+    const double f = scene.bodies[1].body.force_density[0].x() * kVolume;
+    CHECK(f ==
+          Approx(4.0 / 3 * modulus * std::sqrt(kLc / 4) * std::pow(overlap, 1.5)).epsilon(1e-9));
+  }
+  SECTION("two spheres: contact time") {
+    const double v0 = 1.0, reduced = kDemDensity * kVolume / 2;
+    const double duration = contact_time(modulus, kLc / 4, reduced, 2 * v0);
+    const double dt = duration / 4000;
+    std::vector<SceneBody> bodies;
+    bodies.push_back(
+        elastic_point("a", Vec3(-0.5 * kLc - 2 * v0 * dt, 0, 0), Vec3(v0, 0, 0), E1, nu1));
+    bodies.push_back(
+        elastic_point("b", Vec3(0.5 * kLc + 2 * v0 * dt, 0, 0), Vec3(-v0, 0, 0), E2, nu2));
+    Scene scene = dem_scene(std::move(bodies), law, dt, 100000);
+    Simulation sim(scene);
+    long long touching = 0;
+    bool met = false;
+    for (int step = 0; step < 100000; ++step) {
+      sim.advance(false);
+      const bool now = sim.contact()->statistics().points_in_contact > 0;
+      touching += now;
+      if (met && !now) break;
+      met = met || now;
+    }
+    CHECK(static_cast<double>(touching) * dt == Approx(duration).epsilon(0.01));
+    CHECK(scene.bodies[1].rigid->velocity().x() == Approx(v0).epsilon(0.005));
+  }
+  SECTION("a sphere on a mesh wall: contact time with the wall's own E and nu") {
+    const double v0 = 0.5, mass = kDemDensity * kVolume;
+    const double wall_modulus = 1 / ((1 - nu1 * nu1) / E1 + (1 - nu2 * nu2) / E2);
+    const double duration = contact_time(wall_modulus, kLc, mass, v0);  // R* = l_c on a wall
+    const double dt = duration / 4000;
+    std::vector<SceneBody> bodies;
+    bodies.push_back(
+        elastic_point("ball", Vec3(0, 0, kLc + 2 * v0 * dt), Vec3(0, 0, -v0), E1, nu1));
+    bodies.push_back(flat_wall(0.01));
+    bodies.back().elastic = ElasticConstants{E2, nu2};
+    Scene scene = dem_scene(std::move(bodies), law, dt, 100000);
+    Simulation sim(scene);
+    long long touching = 0;
+    bool met = false;
+    for (int step = 0; step < 100000; ++step) {
+      sim.advance(false);
+      const bool now = sim.contact()->statistics().points_in_contact > 0;
+      touching += now;
+      if (met && !now) break;
+      met = met || now;
+    }
+    CHECK(static_cast<double>(touching) * dt == Approx(duration).epsilon(0.01));
+    CHECK(scene.bodies[0].rigid->velocity().z() == Approx(v0).epsilon(0.005));
+  }
+  SECTION("the contact section's E and nu override the bodies'") {
+    const double overlap = 1e-5;
+    std::vector<SceneBody> bodies;
+    bodies.push_back(elastic_point("a", Vec3(-0.5 * (kLc - overlap), 0, 0), Vec3::Zero(), E1, nu1));
+    bodies.push_back(elastic_point("b", Vec3(0.5 * (kLc - overlap), 0, 0), Vec3::Zero(), E2, nu2));
+    Scene scene = dem_scene(
+        std::move(bodies),
+        dem_settings("hertz_mindlin",
+                     {{"restitution", {1.0}}, {"youngs_modulus", {1e9}}, {"poisson_ratio", {0.2}}},
+                     kLc),
+        1e-9, 1);
+    Simulation sim(scene);
+    const double given = 1 / (2 * (1 - 0.04) / 1e9);
+    CHECK(scene.bodies[1].body.force_density[0].x() * kVolume ==
+          Approx(4.0 / 3 * given * std::sqrt(kLc / 4) * std::pow(overlap, 1.5)).epsilon(1e-9));
+  }
+  SECTION("a rigid body without E and nu is refused, naming it") {
+    std::vector<SceneBody> bodies;
+    bodies.push_back(elastic_point("a", Vec3(-kLc, 0, 0), Vec3::Zero(), E1, nu1));
+    bodies.push_back(rigid_points("b", {Vec3(kLc, 0, 0)}, kVolume, Vec3::Zero()));
+    Scene scene = dem_scene(std::move(bodies), law, 1e-9, 1);
+    CHECK_THROWS_WITH(scene.contact.law(contact_bodies(std::as_const(scene)), 0, 1),
+                      Catch::Contains("body 'b', a rigid body: give `youngs_modulus` and "
+                                      "`poisson_ratio` in its `rigid` section"));
   }
 }

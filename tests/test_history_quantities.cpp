@@ -173,7 +173,7 @@ std::string bar_case(int rows) {
   for (auto at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
     text.replace(at, from.size(), to);
   // One frame at the end: the strain is measured in the middle of the bar from it.
-  return text + "  field_interval: 1000000\n  fields: [reference_position, displacement]\n";
+  return text + "  field_interval: 1000000\n  fields: [reference_position, displacement, stress]\n";
 }
 
 std::vector<double> read_dataset(hid_t file, const std::string& path) {
@@ -208,9 +208,28 @@ double mid_strain(const std::filesystem::path& out) {
   return (n * sxu - sx * su) / (n * sxx - sx * sx);
 }
 
+// The mean sigma_xx (the per-point stress field, volume-weighted; all points have one volume)
+// over the points with 12 mm <= X <= 28 mm, from the last frame.
+double mid_stress(const std::filesystem::path& out) {
+  const hid_t file =
+      H5Fopen((out / "fields" / "frame_000001.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  REQUIRE(file >= 0);
+  const auto X = read_dataset(file, "/body_0/reference_position");
+  const auto sigma = read_dataset(file, "/body_0/stress");
+  H5Fclose(file);
+  REQUIRE(sigma.size() == 2 * X.size());
+  double sum = 0, n = 0;
+  for (std::size_t i = 0; i < X.size() / 3; ++i) {
+    if (X[3 * i] < 0.012 || X[3 * i] > 0.028) continue;
+    sum += sigma[6 * i];
+    n += 1;
+  }
+  return sum / n;
+}
+
 // The reaction (averaged over the last 100 us, held) over E W strain, strain from the middle.
-double bar_ratio(int rows, double& strain, double& pull, double& hold, double& pull_y,
-                 double& free) {
+double bar_ratio(int rows, double& strain, double& pull, double& hold, double& pull_y, double& free,
+                 double& stress) {
   const auto dir = fresh_dir("history-reaction");
   const std::string file = write_file(dir / "case.yaml", bar_case(rows));
   const CommandResult r = run_ckpd("run " + file + " --quiet --out " + (dir / "out").string());
@@ -233,6 +252,7 @@ double bar_ratio(int rows, double& strain, double& pull, double& hold, double& p
   hold /= n;
   pull_y /= n;
   strain = mid_strain(dir / "out");
+  stress = mid_stress(dir / "out");
   return pull / (1.0e9 * 0.001 * rows * strain);
 }
 
@@ -243,16 +263,20 @@ TEST_CASE("the reaction force of a slowly stretched bar is E_eff A strain", "[hi
   // uniaxial-stress modulus along a lattice axis is E: the patch-test ratio is 1. The rows
   // whose families a free surface cuts are softer (the peridynamic skin), so a bar of width W
   // carries (1 - a / W) of that; two widths give a and the interior ratio 1 - a / infinity.
-  double strain = 0, pull = 0, hold = 0, pull_y = 0, free = 0;
-  const double narrow = bar_ratio(10, strain, pull, hold, pull_y, free);
+  double strain = 0, pull = 0, hold = 0, pull_y = 0, free = 0, stress = 0;
+  const double narrow = bar_ratio(10, strain, pull, hold, pull_y, free, stress);
   INFO("10 rows: pull " << pull << " N/m, hold " << hold << " N/m, strain " << strain << ", ratio "
-                        << narrow);
+                        << narrow << "; mean stress x W " << stress * 0.010 << " N/m");
+  // The stress field carries the force through the bar: its mean over the middle times the
+  // width is the grips' reaction (the virial of a section is the force it transmits).
+  CHECK(stress * 0.010 == Approx(pull).epsilon(0.01));
   CHECK(strain > 5e-4);
   CHECK(pull > 0);
   CHECK(hold == Approx(-pull).epsilon(0.01));  // quasi-static: the grips balance
   CHECK(std::abs(pull_y) < 1e-9 * pull);       // the grips hold x only
   CHECK(free < 1e-9 * pull);                   // free points need no holding
-  const double wide = bar_ratio(20, strain, pull, hold, pull_y, free);
+  const double wide = bar_ratio(20, strain, pull, hold, pull_y, free, stress);
+  CHECK(stress * 0.020 == Approx(pull).epsilon(0.01));
   const double interior = 2 * wide - narrow;  // r(W) = 1 - a / W at W = 10 and 20 rows
   INFO("20 rows: ratio " << wide << "; interior (W -> infinity) " << interior);
   CHECK(narrow < wide);

@@ -24,6 +24,20 @@ TEST_CASE("a time table interpolates linearly and holds its end values", "[condi
   CHECK(TimeTable(Vec3(1, 2, 3)).value(7) == Vec3(1, 2, 3));
 }
 
+TEST_CASE("a step time table holds each row's value until the next row's time",
+          "[conditions][table]") {
+  const TimeTable t({1.0, 2.0, 4.0}, {Vec3(1, 0, 0), Vec3(-2, 5, 0), Vec3(3, 3, 3)},
+                    Interpolation::step);
+  CHECK(t.value(0.0) == Vec3(1, 0, 0));  // before the first row: its value
+  CHECK(t.value(1.0) == Vec3(1, 0, 0));
+  CHECK(t.value(1.999) == Vec3(1, 0, 0));
+  CHECK(t.value(2.0) == Vec3(-2, 5, 0));  // from a row's own time on
+  CHECK(t.value(3.5) == Vec3(-2, 5, 0));
+  CHECK(t.value(4.0) == Vec3(3, 3, 3));
+  CHECK(t.value(9.0) == Vec3(3, 3, 3));
+  for (double time : {0.0, 1.5, 2.0, 3.0, 5.0}) CHECK(t.rate(time) == Vec3::Zero());
+}
+
 namespace {
 
 // A 2D strip: its left column follows a tabulated velocity; gravity and a pressure on the right
@@ -105,6 +119,9 @@ TEST_CASE("a bad time table is rejected with the row", "[conditions][table]") {
   r = run("{table: [[0, 0]]}");
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("expected a row [t, vx, vy]") != std::string::npos);
+  r = run("{table: [[0, 0, 0]], interpolation: cubic}");
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("value.interpolation: expected linear or step") != std::string::npos);
   r = run("{tabel: [[0, 0, 0]]}");
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("did you mean 'table'") != std::string::npos);

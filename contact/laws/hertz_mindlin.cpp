@@ -2,6 +2,7 @@
 
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 #include "contact/dem_law.hpp"
 
@@ -36,23 +37,43 @@ class HertzMindlin final : public DemLaw {
   double modulus_, shear_, pair_radius_, wall_radius_, zeta_ = 0;
 };
 
+// E or nu of one side: the contact section's value when it gives one (an explicit override, for
+// both sides or per side), else the side's body's own (its material's, or a rigid body's or
+// mesh wall's `rigid: {youngs_modulus, poisson_ratio}`).
+double elastic_value(const LawInputs& in, const std::string& key, std::size_t side) {
+  if (in.parameters.count(key)) return side_value(in, key, side);
+  const LawInputs::Side& s = in.side[side];
+  if (!s.elastic)
+    throw std::invalid_argument(
+        "contact law 'hertz_mindlin' needs Young's modulus and Poisson's ratio of body '" + s.name +
+        "'" +
+        (s.rigid ? std::string(", a ") + (s.wall ? "mesh wall" : "rigid body") +
+                       ": give `youngs_modulus` and `poisson_ratio` in its `rigid` section (or "
+                       "a material that has them)"
+                 : ": its material has none (give them to the material)") +
+        ", or `youngs_modulus` and `poisson_ratio` for the pair in `contact`");
+  return key == "youngs_modulus" ? s.elastic->youngs_modulus : s.elastic->poisson_ratio;
+}
+
 const bool registered = register_law(
     "hertz_mindlin",
     {"Hertz normal, Mindlin tangential stiffness from E and nu, damping from e, Coulomb friction",
      {restitution_parameter(),
       friction_parameter(),
-      {"youngs_modulus", "E > 0 (Pa): one value, or one per side of the pair", true, 2,
+      {"youngs_modulus",
+       "E > 0 (Pa): one value, or one per side of the pair (overrides the bodies' own)", false, 2,
        valid_positive},
-      {"poisson_ratio", "nu in (-1, 0.5): one value, or one per side of the pair", true, 2,
-       valid_poisson},
+      {"poisson_ratio",
+       "nu in (-1, 0.5): one value, or one per side of the pair (overrides the bodies' own)", false,
+       2, valid_poisson},
       {"effective_radius", "R* > 0 (m; default l_c/4, l_c/1 against a wall)", false, 1,
        valid_positive}},
      false,
      [](const LawInputs& in) -> std::shared_ptr<const DemLaw> {
-       const double e1 = side_value(in, "youngs_modulus", 0),
-                    e2 = side_value(in, "youngs_modulus", 1);
-       const double n1 = side_value(in, "poisson_ratio", 0),
-                    n2 = side_value(in, "poisson_ratio", 1);
+       const double e1 = elastic_value(in, "youngs_modulus", 0),
+                    e2 = elastic_value(in, "youngs_modulus", 1);
+       const double n1 = elastic_value(in, "poisson_ratio", 0),
+                    n2 = elastic_value(in, "poisson_ratio", 1);
        const double given = value_or(in, "effective_radius", 0);
        return std::make_shared<HertzMindlin>(
            hertz::effective_modulus(e1, n1, e2, n2), hertz::effective_shear_modulus(e1, n1, e2, n2),

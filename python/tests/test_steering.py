@@ -1,5 +1,6 @@
-"""A prescribed velocity changed between steps from Python runs as the case-file
-`velocity_table` with that change as a step in time: the same state bit for bit."""
+"""A prescribed velocity changed between steps from Python runs as the case-file `velocity`
+with a step table (`value: {table: ..., interpolation: step}`) that makes that change at the
+same time: the same state bit for bit."""
 import numpy as np
 import pytest
 
@@ -9,9 +10,10 @@ SWITCH_STEP = 20
 
 
 def table(value_before, value_after, switch_time, region):
-    return {"type": "velocity_table", "body": "plate", "region": region,
-            "times": [0.0, switch_time], "values": [[0, value_before], [0, value_after]],
-            "interpolation": "step", "components": ["y"]}
+    return {"type": "velocity", "body": "plate", "region": region,
+            "value": {"table": [[0.0, 0, value_before], [switch_time, 0, value_after]],
+                      "interpolation": "step"},
+            "components": ["y"]}
 
 
 def test_steering_a_velocity_between_steps_equals_the_piecewise_velocity_case(plate):

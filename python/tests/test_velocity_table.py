@@ -1,5 +1,9 @@
-"""The `velocity_table` condition: the grip moves by the integral of its table (the drift uses
-the midpoint velocity, exact for a linear piece), and bad tables are refused with their path."""
+"""The `velocity_table` condition (a `velocity` whose table is written as two lists): the grip
+moves by the integral of its table (the drift uses the midpoint velocity, exact for a linear
+piece), it is the `value: {table}` form bit for bit, and bad tables are refused with their
+path."""
+import copy
+
 import numpy as np
 import pytest
 
@@ -33,6 +37,24 @@ def test_a_step_table_holds_each_value_until_the_next_time(plate):
                                      interpolation="step"))
     sim.run()
     assert grip_displacement(sim) == pytest.approx((2 * 10 - 3 * 50) * dt, rel=1e-12)
+
+
+@pytest.mark.parametrize("interpolation", ["linear", "step"])
+def test_the_two_lists_are_the_velocity_table_form_bit_for_bit(plate, interpolation):
+    dt = plate["time"]["dt"]
+    times, values = [0, 20.5 * dt, 50.5 * dt], [[0, 0], [0, 4], [0, 1]]
+    lists = ckpd.Simulation(with_table(copy.deepcopy(plate), times=times, values=values,
+                                       interpolation=interpolation))
+    table = copy.deepcopy(plate)
+    table["conditions"][0] = {"type": "velocity", "body": "plate",
+                              "region": plate["conditions"][0]["region"], "components": ["y"],
+                              "value": {"table": [[t] + v for t, v in zip(times, values)],
+                                        "interpolation": interpolation}}
+    form = ckpd.Simulation(table)
+    lists.run()
+    form.run()
+    assert np.array_equal(lists.bodies["plate"].displacements, form.bodies["plate"].displacements)
+    assert np.array_equal(lists.bodies["plate"].velocities, form.bodies["plate"].velocities)
 
 
 @pytest.mark.parametrize("table, message", [

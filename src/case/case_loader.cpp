@@ -83,14 +83,17 @@ struct MemoryBudget {
 SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>& materials,
                     MemoryBudget& budget) {
   if (n.has("rigid")) {
-    // A rigid body's material, when it has one, gives only its density.
+    // A rigid body's material, when it has one, gives only its density and (for contact laws
+    // that use them) its E and nu.
     std::optional<double> density;
+    std::optional<ElasticConstants> elastic;
     if (auto m = n.optional("material")) {
       const auto it = materials.find(m->as_string());
       if (it == materials.end()) m->fail("the name of a material in `materials`");
       density = it->second.model->density();
+      elastic = it->second.model->elastic();
     }
-    return read_rigid_body(n, density);
+    return read_rigid_body(n, density, elastic);
   }
   BodyDefinition def;
   def.name = n.required("name").as_string();
@@ -242,6 +245,7 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
   }
   sb.spacing = spacing;
   sb.mesh = mesh_info;
+  sb.elastic = mat.model->elastic();
   return sb;
 }
 

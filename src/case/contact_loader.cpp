@@ -140,8 +140,7 @@ ContactSettings read_contact(const CaseNode& n, Scene& scene) {
       try {
         law = s.law(bodies, a, b);
       } catch (const std::invalid_argument& e) {
-        throw CaseError(where.where() + ": " + e.what() +
-                        ": give `horizon` for the pair or for all contact");
+        throw CaseError(where.where() + ": " + e.what());
       }
       const PointSet& A = bodies[a].points;
       const PointSet& B = bodies[b].points;

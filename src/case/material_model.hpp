@@ -6,9 +6,11 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "bodies/body.hpp"
+#include "contact/dem_law.hpp"
 #include "src/input/case_node.hpp"
 
 namespace ckpd {
@@ -32,6 +34,8 @@ class MaterialModel {
  public:
   virtual ~MaterialModel() = default;
   double density() const { return density_; }
+  // Young's modulus and Poisson's ratio, when the model has them (contact laws use them).
+  virtual std::optional<ElasticConstants> elastic() const { return std::nullopt; }
   // Sets def.model, def.constants and def.critical_stretch for a body. Throws
   // std::invalid_argument (with the reason) when the material cannot serve that body.
   virtual void define(BodyDefinition& def, const MaterialTarget& target) const = 0;

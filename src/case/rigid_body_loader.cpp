@@ -13,7 +13,8 @@ constexpr std::size_t kDefaultMaxPoints = 20'000'000;
 
 }  // namespace
 
-SceneBody read_rigid_body(const CaseNode& n, std::optional<double> material_density) {
+SceneBody read_rigid_body(const CaseNode& n, std::optional<double> material_density,
+                          std::optional<ElasticConstants> material_elastic) {
   const std::string name = n.required("name").as_string();
   int dimension = 3;
   if (auto d = n.optional("dimension")) {
@@ -41,11 +42,29 @@ SceneBody read_rigid_body(const CaseNode& n, std::optional<double> material_dens
     r.required("mass").fail("either rigid.mass or a material (its density), not both");
   if (kind == RigidMotion::Kind::free && !mass && !material_density)
     r.fail("a mass for a free rigid body: rigid.mass (kg) or a material (its density)");
+  // E and nu for contact laws that use them (hertz_mindlin): both keys or neither.
+  std::optional<ElasticConstants> elastic = material_elastic;
+  if (r.has("youngs_modulus") || r.has("poisson_ratio")) {
+    if (material_elastic)
+      r.required(r.has("youngs_modulus") ? "youngs_modulus" : "poisson_ratio")
+          .fail(
+              "either rigid.youngs_modulus and rigid.poisson_ratio or a material (its E and "
+              "nu), not both");
+    ElasticConstants c;
+    c.youngs_modulus =
+        r.required("youngs_modulus").as_in_range(1e-3, 1e16, "a Young's modulus in Pa");
+    const CaseNode nu = r.required("poisson_ratio");
+    c.poisson_ratio = nu.as_double();
+    if (!(c.poisson_ratio > -1 && c.poisson_ratio < 0.5)) nu.fail("a Poisson's ratio in (-1, 0.5)");
+    elastic = c;
+  }
   r.finish();
   if (auto w = n.optional("mesh_wall")) {
     if (n.has("geometry")) n.fail("either geometry (points) or mesh_wall (a surface), not both");
     if (dimension != 3) w->fail("a 3D body for a mesh wall");
-    return read_mesh_wall(n, *w, name, kind, velocity, omega, mass, material_density);
+    SceneBody wall = read_mesh_wall(n, *w, name, kind, velocity, omega, mass, material_density);
+    wall.elastic = elastic;
+    return wall;
   }
 
   const double spacing = n.required("spacing").as_in_range(1e-9, 1e6, "a spacing in m");
@@ -76,6 +95,7 @@ SceneBody read_rigid_body(const CaseNode& n, std::optional<double> material_dens
   const double density = mass ? *mass / volume : material_density.value_or(0.0);
   SceneBody sb;
   sb.spacing = spacing;
+  sb.elastic = elastic;
   try {
     sb.body = make_point_set(name, dimension, std::move(sample.position), std::move(sample.volume),
                              density);

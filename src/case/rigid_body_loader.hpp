@@ -1,7 +1,8 @@
 #pragma once
 // Reads a body with a `rigid` key: points on a lattice like any body, no bonds, and a rigid
 // motion (src/engine/rigid_body.hpp). Keys: name, rigid {motion: prescribed | free, velocity,
-// angular_velocity, mass}, material (its density), dimension, geometry, spacing, max_points.
+// angular_velocity, mass, youngs_modulus, poisson_ratio}, material (its density, E and nu),
+// dimension, geometry, spacing, max_points. E and nu serve contact laws that use them.
 #include <optional>
 
 #include "src/engine/scene.hpp"
@@ -9,8 +10,10 @@
 
 namespace ckpd {
 
-// `material_density`: the density of the body's `material`, when it names one (read by the
-// caller, which knows the materials). Every error is a CaseError naming file, line and key.
-SceneBody read_rigid_body(const CaseNode& node, std::optional<double> material_density);
+// `material_density`, `material_elastic`: the density and E, nu of the body's `material`, when it
+// names one (read by the caller, which knows the materials). Every error is a CaseError naming
+// file, line and key.
+SceneBody read_rigid_body(const CaseNode& node, std::optional<double> material_density,
+                          std::optional<ElasticConstants> material_elastic = std::nullopt);
 
 }  // namespace ckpd

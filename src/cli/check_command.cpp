@@ -80,7 +80,24 @@ int check(const CheckOptions& opt) {
   for (const SceneBody& sb : scene.bodies) {
     const Body& b = sb.body;
     megabytes += body_megabytes(b);
-    std::cout << "  body '" << b.name << "': " << b.dimension << "D" << (sb.rigid ? ", rigid" : "")
+    if (sb.rigid) {
+      // A rigid body has no bonds, horizon or kernel: its line says what it is.
+      std::cout << "  body '" << b.name << "': rigid, "
+                << (sb.rigid->prescribed() ? "prescribed" : "free") << " motion, ";
+      if (sb.rigid->prescribed() && !(sb.rigid->mass() > 0))
+        std::cout << "no mass (its motion needs none)";
+      else
+        std::cout << "mass " << sb.rigid->mass() << (b.dimension == 2 ? " kg/m" : " kg");
+      if (sb.wall && sb.mesh)
+        std::cout << ", mesh wall of " << sb.mesh->triangles << " triangles (" << b.size()
+                  << " carrier points)\n";
+      else
+        std::cout << ", " << b.dimension << "D, " << b.size() << " points, dx " << sb.spacing
+                  << " m\n";
+      if (sb.mesh) print_mesh(*sb.mesh, b);
+      continue;
+    }
+    std::cout << "  body '" << b.name << "': " << b.dimension << "D"
               << ", " << b.size() << " points, " << b.bond_count() << " bonds, N2 "
               << b.total_two_neighbour() << ", N3 " << b.total_three_neighbour()
               << " (ordered), dx " << sb.spacing << " m, horizon " << b.horizon << " m, mass "

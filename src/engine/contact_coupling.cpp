@@ -25,7 +25,7 @@ bool intact_bond(const void* context, std::uint32_t i, std::uint32_t j) {
 
 ContactBody contact_body(const SceneBody& sb, PointSet points) {
   return {points, sb.rigid.has_value(), sb.rigid.has_value() && sb.rigid->prescribed(),
-          sb.wall.get()};
+          sb.wall.get(), sb.elastic};
 }
 
 }  // namespace

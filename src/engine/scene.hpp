@@ -28,6 +28,9 @@ struct SceneBody {
   // The wall's triangles in the reference frame, for field output (the wall moves them rigidly).
   std::shared_ptr<const TriangleMesh> wall_surface;
   std::optional<MeshInfo> mesh;  // bodies from a mesh (sampled or walls), for `ckpd check`
+  // E and nu: a deformable body's material's, a rigid body's own (`rigid: {youngs_modulus,
+  // poisson_ratio}`) or its material's; none when unknown. Contact laws that need them read them.
+  std::optional<ElasticConstants> elastic;
 };
 
 struct TimeSettings {

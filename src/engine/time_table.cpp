@@ -5,8 +5,8 @@
 
 namespace ckpd {
 
-TimeTable::TimeTable(std::vector<double> time, std::vector<Vec3> value)
-    : time_(std::move(time)), value_(std::move(value)) {}
+TimeTable::TimeTable(std::vector<double> time, std::vector<Vec3> value, Interpolation interpolation)
+    : time_(std::move(time)), value_(std::move(value)), interpolation_(interpolation) {}
 
 std::size_t TimeTable::interval(double t) const {
   const auto after = std::upper_bound(time_.begin(), time_.end(), t);
@@ -17,12 +17,14 @@ Vec3 TimeTable::value(double t) const {
   if (constant() || t <= time_.front()) return value_.front();
   if (t >= time_.back()) return value_.back();
   const std::size_t k = interval(t);
+  if (interpolation_ == Interpolation::step) return value_[k];
   const double w = (t - time_[k]) / (time_[k + 1] - time_[k]);
   return (1 - w) * value_[k] + w * value_[k + 1];
 }
 
 Vec3 TimeTable::rate(double t) const {
-  if (constant() || t < time_.front() || t >= time_.back()) return Vec3::Zero();
+  if (constant() || interpolation_ == Interpolation::step || t < time_.front() || t >= time_.back())
+    return Vec3::Zero();
   const std::size_t k = interval(t);
   return (value_[k + 1] - value_[k]) / (time_[k + 1] - time_[k]);
 }
@@ -37,6 +39,12 @@ namespace {
 
 TimeTable read_table(const CaseNode& node, int components) {
   const CaseNode rows = node.required("table");
+  Interpolation interpolation = Interpolation::linear;
+  if (auto i = node.optional("interpolation")) {
+    const std::string mode = i->as_string();
+    if (mode != "linear" && mode != "step") i->fail("linear or step");
+    interpolation = mode == "step" ? Interpolation::step : Interpolation::linear;
+  }
   node.finish();
   std::vector<double> time;
   std::vector<Vec3> value;
@@ -55,7 +63,7 @@ TimeTable read_table(const CaseNode& node, int components) {
     value.push_back(v);
   }
   if (time.empty()) rows.fail("at least one row " + row_form);
-  return TimeTable(std::move(time), std::move(value));
+  return TimeTable(std::move(time), std::move(value), interpolation);
 }
 
 }  // namespace

@@ -1,6 +1,11 @@
 #include "src/output/field_table.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include "bodies/damage.hpp"
+#include "bodies/point_stress.hpp"
 #include "src/input/nearest_name.hpp"
 #include "src/output/point_strain.hpp"
 
@@ -106,6 +111,28 @@ std::vector<FieldSpec> make_table() {
                  out.resize(body.size());
                  for (std::size_t i = 0; i < body.size(); ++i)
                    out[i] = deformation_gradient(body, i).determinant() - 1;
+               }});
+  t.push_back({"stress", 6, FieldNumber::float64, false,
+               "Cauchy stress from the virial of the point's own energy, tau / det F (xx, xy, "
+               "xz, yy, yz, zz), Pa; computed only for frames that write it",
+               [](const Simulation& sim, std::size_t b, std::vector<double>& out) {
+                 const Body& body = body_of(sim, b);
+                 out.resize(6 * body.size());
+                 if (body.family.offset.size() != body.size() + 1) {  // rigid: no stress
+                   std::fill(out.begin(), out.end(), std::numeric_limits<double>::quiet_NaN());
+                   return;
+                 }
+                 std::vector<Eigen::Matrix3d> tau;
+                 kirchhoff_stress(body, tau);
+                 for (std::size_t i = 0; i < body.size(); ++i) {
+                   // The current volume J V^i; a point without an estimate of F (its intact
+                   // bonds do not span its dimension) keeps its reference volume.
+                   const double J = deformation_gradient(body, i).determinant();
+                   const Eigen::Matrix3d s =
+                       0.5 * (tau[i] + tau[i].transpose()) / (std::isfinite(J) && J > 0 ? J : 1.0);
+                   const double v[6] = {s(0, 0), s(0, 1), s(0, 2), s(1, 1), s(1, 2), s(2, 2)};
+                   for (int k = 0; k < 6; ++k) out[6 * i + k] = v[k];
+                 }
                }});
   return t;
 }

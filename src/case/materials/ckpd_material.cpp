@@ -38,6 +38,10 @@ class CkpdMaterial : public MaterialModel {
     }
   }
 
+  std::optional<ElasticConstants> elastic() const override {
+    return ElasticConstants{youngs_modulus_, poisson_ratio_};
+  }
+
   void define(BodyDefinition& def, const MaterialTarget& t) const override {
     def.model = nullptr;  // CKPD
     def.strain_measure = strain_measure_;

@@ -1,6 +1,8 @@
 // `velocity`: prescribed velocity on a region, constant or ramped linearly from 0 over
 // `ramp_time` (THEORY.md section 7), or tabulated over time (`value: {table: [[t, vx, vy, vz],
-// ...]}`, src/engine/time_table.hpp), on all or some components. `fixed`: zero velocity.
+// ...], interpolation: linear | step}`, src/engine/time_table.hpp), on all or some components.
+// `fixed`: zero velocity. `velocity_table` (`times`, `values`, `interpolation`) is the same
+// condition as a `velocity` with a table value, spelt as the Python examples first wrote it.
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -74,6 +76,47 @@ const bool velocity_registered =
       }
       return std::unique_ptr<Condition>(
           new PrescribedVelocity(std::move(points), std::move(value), components, ramp, true));
+    });
+
+// `times` and `values` as a velocity's table (the `velocity_table` spelling).
+TimeTable read_times_and_values(const CaseNode& n, int dim) {
+  const CaseNode times_node = n.required("times");
+  std::vector<double> times;
+  for (const CaseNode& e : times_node.elements()) {
+    const double time = e.as_non_negative();
+    if (!times.empty() && time <= times.back()) e.fail("a time above the one before it");
+    times.push_back(time);
+  }
+  if (times.empty()) times_node.fail("at least one time");
+  const CaseNode values_node = n.required("values");
+  std::vector<Vec3> values;
+  for (const CaseNode& e : values_node.elements()) values.push_back(e.as_vector(dim));
+  if (values.size() != times.size())
+    values_node.fail("one value per time (" + std::to_string(times.size()) + ")");
+  Interpolation interpolation = Interpolation::linear;
+  if (auto i = n.optional("interpolation")) {
+    const std::string mode = i->as_string();
+    if (mode != "linear" && mode != "step") i->fail("linear or step");
+    interpolation = mode == "step" ? Interpolation::step : Interpolation::linear;
+  }
+  TimeTable table(std::move(times), std::move(values), interpolation);
+  if (!(table.max_norm() < CaseNode::kMaxSpeed)) {
+    std::ostringstream s;
+    s << "velocities in m/s of magnitude below " << CaseNode::kMaxSpeed << " (got "
+      << table.max_norm() << ")";
+    values_node.fail(s.str());
+  }
+  return table;
+}
+
+const bool table_registered =
+    register_condition("velocity_table", [](const CaseNode& n, const ConditionTarget& t) {
+      const int dim = t.body.dimension;
+      auto points = select_points(n.optional("region"), t);
+      TimeTable value = read_times_and_values(n, dim);
+      const std::uint8_t components = read_prescribed_components(n.optional("components"), dim);
+      return std::unique_ptr<Condition>(
+          new PrescribedVelocity(std::move(points), std::move(value), components, 0.0, true));
     });
 
 const bool fixed_registered =
