@@ -64,6 +64,38 @@ def leaves(data, name=""):
     return [(name, data)]
 
 
+def components(xdmf):
+    """Per array name: the number of components the XDMF gives it (1, 3, 6 or 9)."""
+    out = {}
+    for a in ET.parse(xdmf).getroot().iter("Attribute"):
+        dims = a.find("DataItem").get("Dimensions").split()
+        out[a.get("Name")] = int(dims[1]) if len(dims) > 1 else 1
+    return out
+
+
+# What a reader may make of an attribute of n components: XDMFReader expands a Tensor6 (xx, xy,
+# xz, yy, yz, zz) into the full symmetric 3 x 3 tensor, the Xdmf3 readers keep its 6.
+ACCEPTED = {1: (1,), 3: (3,), 6: (6, 9), 9: (9,)}
+
+
+def check_components(reader_name, leaf, counts, problems):
+    """Every array has the components its attribute type allows; an expanded Tensor6 holds the
+    same values as its 6 (xy in both off-diagonal places)."""
+    data = leaf.GetPointData()
+    for name, n in counts.items():
+        array = data.GetArray(name)
+        if array is None:
+            continue
+        got = array.GetNumberOfComponents()
+        if got not in ACCEPTED.get(n, (n,)):
+            problems.append(f"{reader_name}: array {name} has {got} components, expected {n}")
+        elif n == 6 and got == 9 and array.GetNumberOfTuples() > 0:
+            t = array.GetTuple(0)
+            if t[1] != t[3] or t[2] != t[6] or t[5] != t[7]:
+                problems.append(f"{reader_name}: array {name} expanded to a tensor that is not "
+                                f"symmetric: {t}")
+
+
 def check(reader_name, path, bodies, times, problems):
     reader = READERS[reader_name](**{"FileNames" if reader_name == "XDMFReader" else "FileName": [path]})
     reader.UpdatePipelineInformation()
@@ -76,7 +108,9 @@ def check(reader_name, path, bodies, times, problems):
     data = servermanager.Fetch(reader)
     # Xdmf3ReaderS delivers the bodies as unnamed pieces: compare what they hold, not names.
     found = []
+    counts = components(os.path.abspath(path))
     for name, leaf in leaves(data):
+        check_components(reader_name, leaf, counts, problems)
         arrays = sorted(leaf.GetPointData().GetArrayName(k)
                         for k in range(leaf.GetPointData().GetNumberOfArrays()))
         found.append((leaf.GetNumberOfPoints(), leaf.GetNumberOfCells(), arrays, name))
