@@ -26,12 +26,12 @@ bodies:
   - {name: low, material: steel, dimension: 2, geometry: {type: box, min: [0, 0], max: [0.008, 0.003]},
      spacing: 0.001, horizon_ratio: 3.015}
   - {name: high, material: steel, dimension: 2,
-     geometry: {type: box, min: [0.002, 0.0035], max: [0.010, 0.0065]}, spacing: 0.001,
+     geometry: {type: box, min: [0.002, 0.0028], max: [0.010, 0.0058]}, spacing: 0.001,
      horizon_ratio: 3.015}
 conditions:
-  - {type: initial_velocity, body: high, value: [20, -4]}
+  - {type: initial_velocity, body: high, value: [20, -10]}
 contact:
-  stiffness: 1.0e12
+  stiffness: 1.0e10
   law: linear_dashpot
   restitution: 0.5
   friction: )" +
@@ -95,7 +95,7 @@ TEST_CASE("friction between deformable points keeps linear but not angular momen
             << " (mu = 0), " << rough.momentum_change << " (mu = 0.5); of angular momentum "
             << frictionless.angular_change << " (mu = 0), " << rough.angular_change
             << " (mu = 0.5); friction work " << rough.friction_work << " J/m\n";
-  REQUIRE(rough.contact_steps > 20);
+  REQUIRE(rough.contact_steps > 10);
   REQUIRE(rough.friction_work > 0);
   CHECK(frictionless.momentum_change < 1e-12);
   CHECK(rough.momentum_change < 1e-12);
