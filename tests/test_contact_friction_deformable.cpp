@@ -37,7 +37,7 @@ contact:
   friction: )" +
          std::to_string(mu) +
          R"(
-time: {steps: 400}
+time: {steps: 200}
 )";
 }
 
@@ -73,8 +73,8 @@ Graze graze(double mu) {
   Simulation sim(scene);
   const Momenta before = momenta(scene);
   Graze g;
-  for (int k = 0; k < 400; ++k) {
-    sim.advance(k == 399);
+  for (int k = 0; k < 200; ++k) {
+    sim.advance(k == 199);
     g.contact_steps += sim.contact()->statistics().points_in_contact > 0;
   }
   const Momenta after = momenta(scene);
