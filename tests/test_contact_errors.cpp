@@ -183,6 +183,15 @@ TEST_CASE("hertz_mindlin reads E and nu of a rigid body from its rigid section",
                           "rigid: {motion: free, youngs_modulus: 200e9, poisson_ratio: 0.3}\n"
                           "    material: steel"),
                   {"bodies[1].rigid.youngs_modulus", "or a material (its E and nu), not both"});
+  // A deformable body whose material has no E and nu (pmb) needs them in the contact section.
+  std::string pmb =
+      replace(hertz, "  steel: {density: 7850, youngs_modulus: 200e9, poisson_ratio: 0.25}",
+              "  steel: {model: pmb, density: 7850, micromodulus: 1.0e20}");
+  pmb = replace(pmb, "rigid: {motion: free, mass: 0.01}",
+                "rigid: {motion: free, mass: 0.01, youngs_modulus: 200e9, poisson_ratio: 0.3}");
+  expect_rejected(
+      pmb, {"case.yaml:15: contact.pairs[0]", "of body 'ball': its material's model has none",
+            "for the pair in `contact`"});
   // With both keys the case runs.
   const auto dir = fresh_dir("hertz-rigid");
   const std::string file = write_file(

@@ -50,7 +50,7 @@ double elastic_value(const LawInputs& in, const std::string& key, std::size_t si
         (s.rigid ? std::string(", a ") + (s.wall ? "mesh wall" : "rigid body") +
                        ": give `youngs_modulus` and `poisson_ratio` in its `rigid` section (or "
                        "a material that has them)"
-                 : ": its material has none (give them to the material)") +
+                 : ": its material's model has none") +
         ", or `youngs_modulus` and `poisson_ratio` for the pair in `contact`");
   return key == "youngs_modulus" ? s.elastic->youngs_modulus : s.elastic->poisson_ratio;
 }
