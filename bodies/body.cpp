@@ -147,6 +147,7 @@ Body make_body(BodyDefinition def) {
   body.damage_rule = def.damage_rule;
   body.model = def.model;
   body.strain_measure = def.strain_measure;
+  body.state_based = def.state_based;
   if (def.model == nullptr && def.strain_measure != 0.5) body.model = &ckpd_seth_hill_kernels();
   body.reference_position = std::move(def.reference_position);
   body.volume = std::move(def.volume);
@@ -274,6 +275,7 @@ Body make_body(BodyDefinition def) {
   } else {
     body.stencil_note = "turned off (lattice_stencil: false)";
   }
+  if (force_model(body).prepare != nullptr) force_model(body).prepare(body);
   return body;
 }
 

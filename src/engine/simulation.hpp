@@ -147,6 +147,10 @@ class Simulation {
  private:
   void evaluate_forces(bool with_energy);
   void check_energy() const;
+  // For bodies whose strain measure stiffens in compression (m <= 0): the stable step at the
+  // current state against dt, after every force evaluation (throws InstabilityError when dt
+  // exceeds it).
+  void check_stable_step() const;
 
   Scene& scene_;
   StepChoice step_choice_;
