@@ -69,11 +69,13 @@ def main():
         print(json.dumps(r))
     if a.out:
         shown = fs[:4]
-        fig, axes = plt.subplots(1, len(shown), figsize=(3.2 * len(shown), 2.4), squeeze=False)
-        for ax, f, r in zip(axes[0], shown, rows):
+        fig, axes = plt.subplots(2, 2, figsize=(8, 5.2), squeeze=False)
+        for ax in axes.flat[len(shown):]:
+            ax.axis("off")
+        for ax, f, r in zip(axes.flat, shown, rows):
             left = f["reference"][:, 0] < 0
             for mask, colour in ((left, "tab:blue"), (~left, "tab:red")):
-                ax.scatter(f["position"][mask, 0], f["position"][mask, 1], s=0.05, c=colour,
+                ax.scatter(f["position"][mask, 0], f["position"][mask, 1], s=0.5, c=colour,
                            linewidths=0)
             ax.set_aspect("equal")
             ax.set_xlim(-1.05, 1.05)
@@ -81,7 +83,7 @@ def main():
             label = f"t = {f['time'] * 1e6:.0f} us, crossed {r['crossed']}"
             if "inverted" in r:
                 label += f", det F<=0: {r['inverted']}"
-            ax.set_title(label, fontsize=7)
+            ax.set_title(label, fontsize=8)
             ax.tick_params(labelsize=6)
         fig.suptitle(a.title, fontsize=9)
         fig.tight_layout()
