@@ -476,10 +476,11 @@ void Simulation::check_stable_step() const {
     msg << "instability at step " << step_ << ", t = " << time_ << " s: body '" << b.name
         << "' (strain measure m = " << m << ", which stiffens in compression) now has a stable "
         << "step of " << now.dt << " s at point " << now.point << " (reference "
-        << format_position(b.reference_position[now.point], b.dimension) << "), below dt = "
-        << dt << " s (" << step_choice_.safety << " x the reference-state estimate "
-        << step_choice_.estimate << " s); rerun with time.safety <= "
-        << step_choice_.safety * now.dt / dt << " or time.dt <= " << now.dt << " s";
+        << format_position(b.reference_position[now.point], b.dimension) << "), below dt = " << dt
+        << " s (" << step_choice_.safety << " x the reference-state estimate "
+        << step_choice_.estimate
+        << " s); rerun with time.safety <= " << step_choice_.safety * now.dt / dt
+        << " or time.dt <= " << now.dt << " s";
     throw InstabilityError(msg.str());
   }
 }
