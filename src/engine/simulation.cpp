@@ -219,6 +219,7 @@ Simulation::Simulation(Scene& scene) : scene_(scene) {
   // scene of rigid bodies at rest has neither (a block set down on a slope): no scale to judge
   // by, no limit.
   speed_limit_ = max_speed > 0 ? 10 * max_speed : std::numeric_limits<double>::infinity();
+  contact_stiffness_ = contact_stiffness_bounds(scene_);
   for (const SceneBody& sb : scene_.bodies) initially_failed_.push_back(failed_bond_count(sb.body));
   contact_radius_.assign(scene_.bodies.size(), std::numeric_limits<double>::infinity());
   for (const ContactPairRadius& p : contact_pair_radii(scene_)) {
@@ -462,12 +463,10 @@ void Simulation::check_stable_step() const {
   // every force evaluation; when dt exceeds it the run stops as unstable, naming the safety
   // factor that would have held, before the blow-up that the reference estimate lets through.
   if (scene_.time.allow_unstable_dt) return;
-  std::vector<double> contact;
   for (std::size_t index = 0; index < scene_.bodies.size(); ++index) {
     const SceneBody& sb = scene_.bodies[index];
     if (sb.rigid || !stiffens_in_compression(sb.body)) continue;
-    if (contact.empty()) contact = contact_stiffness_bounds(scene_);
-    const StableStep now = current_stable_step(sb.body, contact[index]);
+    const StableStep now = current_stable_step(sb.body, contact_stiffness_[index]);
     const double dt = step_choice_.dt;
     if (dt <= now.dt) continue;
     const Body& b = sb.body;

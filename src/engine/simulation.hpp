@@ -169,6 +169,8 @@ class Simulation {
   std::uint64_t max_inverted_ = 0;
   InversionRecord first_inversion_;
   double speed_limit_ = 0;
+  // Per body: its contact stiffness bound (contact_stiffness_bounds), for check_stable_step.
+  std::vector<double> contact_stiffness_;
   // Per body: the smallest l_c of the contact pairs it is in (+inf: none).
   std::vector<double> contact_radius_;
   std::unique_ptr<ContactManager> contact_;
