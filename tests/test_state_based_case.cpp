@@ -173,3 +173,45 @@ TEST_CASE("state_based and CKPD materials refuse each other's keys, naming file,
   CHECK(r.output.find("case.yaml:") != std::string::npos);
   CHECK(r.output.find("an inversion penalty is a CKPD option") != std::string::npos);
 }
+
+TEST_CASE(
+    "with m <= 0 the stable-step guard stops a run past the current stable step and names "
+    "the safety that holds",
+    "[state_based][stable_step]") {
+  // A small Riemann bar (cases/riemann_bar_2d.yaml in miniature): the halves meet at +-1200 m/s
+  // and the log strain stiffens at the interface in the first step.
+  const char* kBar = R"(# SI units, 2D per unit thickness
+materials:
+  sb: {model: state_based, density: 1180, lambda_bar: 10.0e9, mu_bar: 10.0e9, strain_measure: {m: 0}}
+  ck: {density: 1180, youngs_modulus: 13.75e9, poisson_ratio: 0.375, strain_measure: {m: 0}}
+bodies:
+  - {name: bar, material: MATERIAL, dimension: 2, plane: strain,
+     geometry: {type: box, min: [-0.1, -0.05], max: [0.1, 0.05]}, spacing: 0.0125, horizon: 0.05}
+conditions:
+  - {type: initial_velocity, body: bar, region: {type: box, min: [-0.2, -0.1], max: [0.0, 0.1]},
+     value: [1200, 0]}
+  - {type: initial_velocity, body: bar, region: {type: box, min: [0.0, -0.1], max: [0.2, 0.1]},
+     value: [-1200, 0]}
+time: {steps: 3}
+)";
+  for (const char* material : {"sb", "ck"}) {
+    std::string text = kBar;
+    text.replace(text.find("MATERIAL"), 8, material);
+    const auto dir = fresh_dir("sb-guard");
+    const CommandResult r = run_case(text, dir);
+    INFO(material << ": " << r.output);
+    REQUIRE(r.exit_code == 3);
+    CHECK(r.output.find("which stiffens in compression") != std::string::npos);
+    const std::size_t at = r.output.find("time.safety <= ");
+    REQUIRE(at != std::string::npos);
+    const double safety = std::stod(r.output.substr(at + 15));
+    REQUIRE(safety > 0);
+    REQUIRE(safety < 0.8);
+    // At the named safety the first step is taken.
+    const auto again = fresh_dir("sb-guard");
+    const CommandResult ok = run_case(
+        text, again, "--set time.safety=" + std::to_string(0.99 * safety) + " --set time.steps=1");
+    INFO(ok.output);
+    CHECK(ok.exit_code == 0);
+  }
+}
