@@ -44,6 +44,9 @@ void check_definition(const BodyDefinition& d) {
     msg << who << "critical stretch must be positive, got " << d.critical_stretch;
   } else if (!(d.inversion_penalty >= 0) || !std::isfinite(d.inversion_penalty)) {
     msg << who << "inversion penalty must be a finite factor >= 0, got " << d.inversion_penalty;
+  } else if (d.inversion_penalty > 0 && d.model != nullptr && d.model->prepare != nullptr) {
+    msg << who << "an inversion penalty is a CKPD option; this body's force model is "
+        << d.model->name << " (bonds only: a strain measure m <= 0 is its barrier)";
   } else if (d.inversion_penalty > 0 &&
              (d.dimension == 3 ? d.constants.c3 == 0 : d.constants.c2 == 0)) {
     msg << who << "an inversion penalty needs the " << (d.dimension == 3 ? "three" : "two")
@@ -147,6 +150,7 @@ Body make_body(BodyDefinition def) {
   body.damage_rule = def.damage_rule;
   body.model = def.model;
   body.strain_measure = def.strain_measure;
+  body.state_based = def.state_based;
   if (def.model == nullptr && def.strain_measure != 0.5) body.model = &ckpd_seth_hill_kernels();
   body.reference_position = std::move(def.reference_position);
   body.volume = std::move(def.volume);
@@ -274,10 +278,13 @@ Body make_body(BodyDefinition def) {
   } else {
     body.stencil_note = "turned off (lattice_stencil: false)";
   }
+  if (force_model(body).prepare != nullptr) force_model(body).prepare(body);
   return body;
 }
 
 StiffnessTerms stiffness_terms(const Body& body, std::size_t i) {
+  // A model that sets its own bound (ForceModelKernels::prepare) has bonds only.
+  if (force_model(body).prepare != nullptr) return {body.stiffness_bound[i], 0, 0};
   FamilyScratch scratch;
   scratch.load(body, i, false, body.has_pairs() || body.has_triples());
   const PointCensus c = force_model(body).census(body, scratch);

@@ -84,6 +84,8 @@ struct BodyDefinition {
   // The CKPD model's Seth-Hill strain measure m (ckpd_model.hpp): 1/2 is e = l/L - 1 (the
   // default law); any other m, finite, selects the Seth-Hill CKPD kernels. CKPD only.
   double strain_measure = 0.5;
+  // The state-based model's constants (state_based_model.hpp); unused by the other models.
+  StateBasedConstants state_based;
 };
 
 // The symmetric kernel's degeneracy screens (symmetric_kernel.hpp), fixed by the reference
@@ -108,6 +110,7 @@ struct Body {
   DamageRule damage_rule = DamageRule::centre_bonds;  // BodyDefinition::damage_rule
   const ForceModelKernels* model = nullptr;           // BodyDefinition::model (null: CKPD)
   double strain_measure = 0.5;                        // BodyDefinition::strain_measure
+  StateBasedConstants state_based;                    // BodyDefinition::state_based
 
   // Reference data per point, fixed for the run.
   std::vector<Vec3> reference_position;

@@ -32,6 +32,9 @@ struct ForceModelKernels {
   // the energy they take.
   std::size_t (*update_failure)(Body& body);
   FailureUpdate (*fail_and_book)(Body& body, double half_drift);
+  // Null, or what make_body calls last: a model without a per-set census (state_based_model.hpp)
+  // sets its own constants and stiffness bound here.
+  void (*prepare)(Body& body);
 };
 
 // The CKPD model's table (the default of every body).

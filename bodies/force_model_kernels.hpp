@@ -25,7 +25,8 @@ const ForceModelKernels& kernels_of() {
       [](Body& body) { return update_bond_failure_of(Model::of(body), body); },
       [](Body& body, double half_drift) {
         return fail_overstretched_bonds_of(Model::of(body), body, half_drift);
-      }};
+      },
+      nullptr};
   return table;
 }
 

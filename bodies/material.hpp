@@ -1,5 +1,6 @@
 #pragma once
 // Elastic and fracture constants of a CKPD body (THEORY.md sections 3 and 4).
+#include <limits>
 #include <string>
 
 namespace ckpd {
@@ -15,6 +16,17 @@ struct ElasticModuli {
   double lambda;  // first Lame parameter (lambda* = E nu / (1 - nu^2) in plane stress)
   double mu;      // shear modulus
   double bulk;    // K: E/(3(1-2nu)) in 3D, E/(2(1-nu)) plane stress, lambda + mu plane strain
+};
+
+// The nonlinear state-based solid's constants (bodies/state_based_model.hpp); other models leave
+// them at their defaults.
+struct StateBasedConstants {
+  double lambda_bar = 0, mu_bar = 0;  // Pa (N/m in 2D)
+  double m = 0.5;                     // the Seth-Hill exponent of its bond strain
+  // beta of the critical bond energy beta / |xi|^2; infinite: no failure.
+  double failure_beta = std::numeric_limits<double>::infinity();
+  // Set by make_body: the factor that makes tr_w(1) = d for the fullest family.
+  double weight_scale = 0;
 };
 
 struct InteractionConstants {

@@ -7,6 +7,7 @@
 #include "bodies/ckpd_model.hpp"
 #include "bodies/force_model.hpp"
 #include "bodies/pmb_model.hpp"
+#include "bodies/state_based_model.hpp"
 
 namespace ckpd {
 
@@ -62,6 +63,7 @@ Eigen::Matrix3d point_kirchhoff_stress(const Body& body, std::size_t i, FamilySc
     return stress_of(CkpdSethHillModel::of(body), body, i, scratch);
   if (std::strcmp(kernels.name, PmbModel::kName) == 0)
     return stress_of(PmbModel::of(body), body, i, scratch);
+  if (&kernels == &state_based_kernels()) return state_based_point_kirchhoff_stress(body, i);
   throw std::invalid_argument(std::string("no per-point stress for the force model '") +
                               kernels.name + "' (body '" + body.name + "')");
 }

@@ -15,6 +15,7 @@
 #include "bodies/patch_test.hpp"
 #include "bodies/point_kernel.hpp"
 #include "bodies/point_stress.hpp"
+#include "bodies/state_based_model.hpp"
 #include "bodies/symmetric_kernel.hpp"
 #include "body_fixtures.hpp"
 
@@ -179,4 +180,52 @@ TEST_CASE("with bonds only on a lattice the point stresses sum to the kernel's f
     sum += body.volume[k] * tau[k];
   }
   CHECK(max_abs(sum - virial) < 1e-10 * max_abs(virial));
+}
+
+TEST_CASE("a state-based point's stress is dpsi/dF F^T under a finite homogeneous deformation",
+          "[stress][state_based]") {
+  std::mt19937 rng(5);
+  for (int dim : {2, 3}) {
+    for (double m : {0.5, 0.0}) {
+      INFO(dim << "D, m = " << m);
+      const int n = dim == 3 ? 5 : 7;
+      BodyDefinition def =
+          lattice_block(dim, n, n, dim == 3 ? n : 1, 1e-3, 3.015, {0, 0, 0}, 1000.0);
+      def.model = &state_based_kernels();
+      def.state_based.lambda_bar = 3e9;
+      def.state_based.mu_bar = 2e9;
+      def.state_based.m = m;
+      Body body = make_body(std::move(def));
+      ckpd_test::fail_random_bonds(body, 0.15, rng);
+      std::uniform_real_distribution<double> u(-0.08, 0.08);
+      Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
+      for (int r = 0; r < dim; ++r)
+        for (int c = 0; c < dim; ++c) F(r, c) += u(rng);
+      auto psi_at = [&](const Eigen::Matrix3d& G, std::size_t i) {
+        deform(body, G);
+        std::vector<double> psi;
+        state_based_energy_density(body, psi);
+        return psi[i];
+      };
+      // A corner, an edge point and the centre.
+      for (std::size_t i : {std::size_t{0}, std::size_t{3}, body.size() / 2}) {
+        INFO("point " << i);
+        deform(body, F);
+        FamilyScratch s;
+        const Eigen::Matrix3d tau = point_kirchhoff_stress(body, i, s);
+        Eigen::Matrix3d dWdF = Eigen::Matrix3d::Zero();
+        const double h = 1e-6;
+        for (int r = 0; r < dim; ++r)
+          for (int c = 0; c < dim; ++c) {
+            Eigen::Matrix3d Fp = F, Fm = F;
+            Fp(r, c) += h;
+            Fm(r, c) -= h;
+            dWdF(r, c) = (psi_at(Fp, i) - psi_at(Fm, i)) / (2 * h);
+          }
+        const Eigen::Matrix3d expected = dWdF * F.transpose();
+        CHECK(max_abs(tau - expected) < 1e-6 * max_abs(expected));
+        CHECK(max_abs(tau - tau.transpose()) < 1e-9 * max_abs(tau));
+      }
+    }
+  }
 }

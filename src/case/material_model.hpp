@@ -4,6 +4,7 @@
 // from its own file (like a condition type or a LAMMPS pair style): it reads its own keys and
 // gives a body its force model (bodies/force_model.hpp), constants and critical stretch.
 #include <functional>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <optional>
@@ -43,6 +44,16 @@ class MaterialModel {
  protected:
   double density_ = 0;
 };
+
+// A key of another model on this one is refused with a message naming the model it belongs to
+// (file, line and key, like any bad input).
+inline void refuse_keys_of(const CaseNode& m, const std::string& mine, const std::string& theirs,
+                           std::initializer_list<const char*> keys) {
+  for (const char* k : keys)
+    if (auto n = m.optional(k))
+      n->fail(std::string("no ") + k + " on a " + mine + " material (a key of model: " + theirs +
+              ")");
+}
 
 // Reads a material's own keys (not `model`); the caller rejects any key left unread.
 using MaterialFactory = std::function<std::unique_ptr<MaterialModel>(const CaseNode&)>;

@@ -9,6 +9,7 @@
 
 #include "base/parallel_policy.hpp"
 #include "bodies/damage.hpp"
+#include "bodies/state_based_model.hpp"
 #include "bodies/symmetric_kernel.hpp"
 #include "src/engine/contact_coupling.hpp"
 
@@ -218,6 +219,7 @@ Simulation::Simulation(Scene& scene) : scene_(scene) {
   // scene of rigid bodies at rest has neither (a block set down on a slope): no scale to judge
   // by, no limit.
   speed_limit_ = max_speed > 0 ? 10 * max_speed : std::numeric_limits<double>::infinity();
+  contact_stiffness_ = contact_stiffness_bounds(scene_);
   for (const SceneBody& sb : scene_.bodies) initially_failed_.push_back(failed_bond_count(sb.body));
   contact_radius_.assign(scene_.bodies.size(), std::numeric_limits<double>::infinity());
   for (const ContactPairRadius& p : contact_pair_radii(scene_)) {
@@ -332,6 +334,7 @@ void Simulation::advance(bool with_energy) {
               : origin_time_ + static_cast<double>(step_ + 1 - origin_step_) * step_choice_.dt;
   ++step_;
   evaluate_forces(with_energy);
+  check_stable_step();  // before the kick: a step past the current stable step is not taken
   for (std::size_t index = 0; index < scene_.bodies.size(); ++index) {
     SceneBody& sb = scene_.bodies[index];
     Body& b = sb.body;
@@ -402,6 +405,83 @@ void Simulation::advance(bool with_energy) {
     }
   }
   if (with_energy) check_energy();
+}
+
+namespace {
+
+// Whether a body's strain measure stiffens in compression (Seth-Hill m <= 0): its stable step is
+// re-estimated at the current state during the run (THEORY.md section 6).
+bool stiffens_in_compression(const Body& b) {
+  if (b.model == &state_based_kernels()) return b.state_based.m <= 0;
+  return b.model == &ckpd_seth_hill_kernels() && b.strain_measure <= 0;
+}
+
+// CKPD: the growth of a Seth-Hill bond's tangent at the ratio r = l/L over its reference value
+// C/L: along the bond |r^(4m-2) + (2m-1) e_m r^(2m-2)|, across it |e_m| r^(2m-2).
+double ckpd_bond_stiffening(double m, double r) {
+  const double e = m == 0 ? std::log(r) : (std::pow(r, 2 * m) - 1) / (2 * m);
+  const double along = std::pow(r, 4 * m - 2) + (2 * m - 1) * e * std::pow(r, 2 * m - 2);
+  return std::abs(along) + std::abs(e) * std::pow(r, 2 * m - 2);
+}
+
+// The stable step of a body at its current displacement (see check_stable_step).
+StableStep current_stable_step(const Body& b, double extra_stiffness) {
+  std::vector<double> k;
+  if (b.model == &state_based_kernels()) {
+    state_based_stiffness_bound(b, k);
+  } else {
+    k.resize(b.size());
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      double factor = 1;
+      for (std::size_t s = b.family.offset[i]; s < b.family.offset[i + 1]; ++s) {
+        if (!b.bond_intact[s]) continue;
+        const std::uint32_t j = b.family.neighbour[s];
+        const Vec3 dX = b.reference_position[j] - b.reference_position[i];
+        const double r = (dX + b.displacement[j] - b.displacement[i]).norm() / dX.norm();
+        factor = std::max(factor, ckpd_bond_stiffening(b.strain_measure, r));
+      }
+      k[i] = factor * b.stiffness_bound[i];
+    }
+  }
+  StableStep s;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    const double total = k[i] + extra_stiffness;
+    if (!(total > 0)) continue;
+    const double dt = 2.0 * std::sqrt(b.density / total);
+    if (dt < s.dt || !std::isfinite(dt)) s = {dt, i};
+  }
+  return s;
+}
+
+}  // namespace
+
+void Simulation::check_stable_step() const {
+  // A guard, not a re-estimate that lowers dt: the step is fixed for the run (the output
+  // schedule, time.end's last step and a restart's step/time identity rest on it). A body whose
+  // measure stiffens in compression has its stable step estimated at the current state after
+  // every force evaluation; when dt exceeds it the run stops as unstable, naming the safety
+  // factor that would have held, before the blow-up that the reference estimate lets through.
+  if (scene_.time.allow_unstable_dt) return;
+  for (std::size_t index = 0; index < scene_.bodies.size(); ++index) {
+    const SceneBody& sb = scene_.bodies[index];
+    if (sb.rigid || !stiffens_in_compression(sb.body)) continue;
+    const StableStep now = current_stable_step(sb.body, contact_stiffness_[index]);
+    const double dt = step_choice_.dt;
+    if (dt <= now.dt) continue;
+    const Body& b = sb.body;
+    const double m = b.model == &state_based_kernels() ? b.state_based.m : b.strain_measure;
+    std::ostringstream msg;
+    msg << "instability at step " << step_ << ", t = " << time_ << " s: body '" << b.name
+        << "' (strain measure m = " << m << ", which stiffens in compression) now has a stable "
+        << "step of " << now.dt << " s at point " << now.point << " (reference "
+        << format_position(b.reference_position[now.point], b.dimension) << "), below dt = " << dt
+        << " s (" << step_choice_.safety << " x the reference-state estimate "
+        << step_choice_.estimate
+        << " s); rerun with time.safety <= " << step_choice_.safety * now.dt / dt
+        << " or time.dt <= " << now.dt << " s";
+    throw InstabilityError(msg.str());
+  }
 }
 
 void Simulation::check_energy() const {

@@ -147,6 +147,10 @@ class Simulation {
  private:
   void evaluate_forces(bool with_energy);
   void check_energy() const;
+  // For bodies whose strain measure stiffens in compression (m <= 0): the stable step at the
+  // current state against dt, after every force evaluation (throws InstabilityError when dt
+  // exceeds it).
+  void check_stable_step() const;
 
   Scene& scene_;
   StepChoice step_choice_;
@@ -165,6 +169,8 @@ class Simulation {
   std::uint64_t max_inverted_ = 0;
   InversionRecord first_inversion_;
   double speed_limit_ = 0;
+  // Per body: its contact stiffness bound (contact_stiffness_bounds), for check_stable_step.
+  std::vector<double> contact_stiffness_;
   // Per body: the smallest l_c of the contact pairs it is in (+inf: none).
   std::vector<double> contact_radius_;
   std::unique_ptr<ContactManager> contact_;

@@ -6,6 +6,7 @@
 
 #include "bodies/damage.hpp"
 #include "bodies/point_stress.hpp"
+#include "bodies/state_based_model.hpp"
 #include "src/input/nearest_name.hpp"
 #include "src/output/point_strain.hpp"
 
@@ -65,6 +66,12 @@ std::vector<FieldSpec> make_table() {
                "fraction of the point's bonds that failed during the run",
                [](const Simulation& sim, std::size_t b, std::vector<double>& out) {
                  point_damage(body_of(sim, b), out);
+               }});
+  t.push_back({"free_surface", 1, FieldNumber::float64, false,
+               "D = 1 - tr_w(phi) / d, the state-based weight over intact bonds (seed 002): 0 "
+               "inside, about 1/2 on a flat surface",
+               [](const Simulation& sim, std::size_t b, std::vector<double>& out) {
+                 state_based_free_surface(body_of(sim, b), out);
                }});
   t.push_back({"strain_energy_density", 1, FieldNumber::float64, true, "J/m^3 (J/m^2 in 2D)",
                [](const Simulation& sim, std::size_t b, std::vector<double>& out) {

@@ -4,6 +4,7 @@
 
 #include "bodies/force_model.hpp"
 #include "bodies/lattice_stencil.hpp"
+#include "bodies/state_based_model.hpp"
 #include "bodies/symmetric_kernel.hpp"
 
 namespace ckpd {
@@ -21,7 +22,9 @@ std::string general_reason(const Body& body) {
 std::string kernel_path_note(const Body& body) {
   std::ostringstream os;
   os << force_model(body).name << " model";
-  if (body.model == nullptr || body.strain_measure != 0.5)
+  if (body.model == &state_based_kernels())
+    os << " (strain measure m = " << body.state_based.m << ")";
+  else if (body.model == nullptr || body.strain_measure != 0.5)
     os << " (strain measure m = " << body.strain_measure << ")";
   os << ", ";
   if (uses_lattice_stencil(body)) {
@@ -42,7 +45,9 @@ nlohmann::ordered_json kernel_path_summary(const Body& body) {
   else
     j = {{"model", model}, {"path", "general"}, {"note", general_reason(body)}};
   // CKPD bodies (the default law and the Seth-Hill one) report their strain measure.
-  if (body.model == nullptr || body.strain_measure != 0.5)
+  if (body.model == &state_based_kernels())
+    j["strain_measure"] = {{"m", body.state_based.m}};
+  else if (body.model == nullptr || body.strain_measure != 0.5)
     j["strain_measure"] = {{"m", body.strain_measure}};
   return j;
 }

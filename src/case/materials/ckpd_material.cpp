@@ -26,6 +26,7 @@ class CkpdMaterial : public MaterialModel {
     if (!(poisson_ratio_ > -1 && poisson_ratio_ < 0.5)) nu.fail("a Poisson's ratio in (-1, 0.5)");
     if (auto g = m.optional("fracture_energy")) fracture_energy_ = g->as_positive();
     if (auto s = m.optional("critical_stretch")) critical_stretch_ = s->as_positive();
+    refuse_keys_of(m, "ckpd", "state_based", {"lambda_bar", "mu_bar"});
     if (fracture_energy_ && critical_stretch_)
       m.fail("either fracture_energy or critical_stretch, not both");
     if (auto sm = m.optional("strain_measure")) {

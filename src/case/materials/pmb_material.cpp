@@ -21,6 +21,7 @@ class PmbMaterial : public MaterialModel {
     if (!std::isfinite(micromodulus_) || micromodulus_ > 1e40)
       m.required("micromodulus").fail("a micromodulus in N/m^6 of at most 1e40");
     if (auto s = m.optional("critical_stretch")) critical_stretch_ = s->as_positive();
+    refuse_keys_of(m, "pmb", "state_based", {"lambda_bar", "mu_bar"});
   }
 
   void define(BodyDefinition& def, const MaterialTarget& t) const override {
