@@ -42,6 +42,17 @@ enum class DamageRule { centre_bonds, all_edges };
 DamageRule damage_rule_from_string(const std::string& name);  // throws std::invalid_argument
 std::string to_string(DamageRule rule);
 
+// How the CKPD forces follow from the energy (THEORY.md section 2b, MODEL.md section 2b).
+// own_family: the seed's law, each point differentiates its own family's energy with its own
+// effective volumes; not the gradient of one energy where the vertices of a set carry different
+// V dVn (surfaces, clouds) or where damage switches a set off for some vertices only.
+// energy_consistent: b^i = -(1/V^i) dE/dx^i of E = sum_c V^c (W1^c/2 + W2^c/3 + W3^c/4): every
+// set acts on all its vertices with the mean over its vertices (those whose family holds it and
+// where it is active) of V^c dVn^c, divided by the receiving point's V^i.
+enum class ForceForm { own_family, energy_consistent };
+ForceForm force_form_from_string(const std::string& name);  // throws std::invalid_argument
+std::string to_string(ForceForm form);
+
 struct BodyDefinition {
   std::string name;
   int dimension = 3;
@@ -84,6 +95,9 @@ struct BodyDefinition {
   // The CKPD model's Seth-Hill strain measure m (ckpd_model.hpp): 1/2 is e = l/L - 1 (the
   // default law); any other m, finite, selects the Seth-Hill CKPD kernels. CKPD only.
   double strain_measure = 0.5;
+  // The CKPD model's force form (ForceForm); energy_consistent selects the conservative CKPD
+  // kernels. CKPD only (a model given in `model` must leave it at own_family).
+  ForceForm force_form = ForceForm::own_family;
 };
 
 // The symmetric kernel's degeneracy screens (symmetric_kernel.hpp), fixed by the reference
@@ -108,6 +122,7 @@ struct Body {
   DamageRule damage_rule = DamageRule::centre_bonds;  // BodyDefinition::damage_rule
   const ForceModelKernels* model = nullptr;           // BodyDefinition::model (null: CKPD)
   double strain_measure = 0.5;                        // BodyDefinition::strain_measure
+  ForceForm force_form = ForceForm::own_family;       // BodyDefinition::force_form
 
   // Reference data per point, fixed for the run.
   std::vector<Vec3> reference_position;
