@@ -1,9 +1,10 @@
 // The body key `force_form` (own_family | energy_consistent, THEORY.md section 2b) in case files:
 // bad values and non-CKPD models are refused with file and line; `ckpd check` and summary.json
 // state the form; and what the form is for, in whole runs: two unequal discs colliding keep
-// their total momentum to round-off, the undamaged strip's energy balance error falls like dt^2
-// (the own-family floor of 0.5 % does not), and a tear's balance closes to second order under
-// both damage rules with the case's own weights.
+// their total momentum to round-off; the undamaged strip loses the own-family energy floor of
+// 0.5 % (pulled by prescribed velocities it keeps 1.6e-5 of its strain energy at every dt; set
+// free its error falls like dt^2); and a tear's balance closes to second order under both
+// damage rules with the case's own weights.
 #include <omp.h>
 
 #include <catch2/catch.hpp>
@@ -168,25 +169,37 @@ TEST_CASE("two unequal discs colliding keep their total momentum under energy_co
   CHECK(own > 1e-8);
 }
 
-TEST_CASE(
-    "the undamaged strip's energy balance error falls with dt squared under "
-    "energy_consistent",
-    "[conservative]") {
+TEST_CASE("the undamaged strip's energy balance has no own-family floor under energy_consistent",
+          "[conservative]") {
   kernel_comparison::ThreadCountGuard guard;
   omp_set_num_threads(1);
-  const Run coarse =
-      run_in_process("strip-ec", strip_case("energy_consistent", "centre_bonds", false), 0.8);
-  const Run fine =
-      run_in_process("strip-ec-fine", strip_case("energy_consistent", "centre_bonds", false), 0.4);
-  const Run own = run_in_process("strip-own", strip_case("own_family", "centre_bonds", false), 0.8);
-  const Run own_fine =
-      run_in_process("strip-own-fine", strip_case("own_family", "centre_bonds", false), 0.4);
-  INFO("energy_consistent: balance error "
-       << coarse.error << " (dt), " << fine.error << " (dt/2) of strain " << coarse.strain
-       << " J/m; own_family: " << own.error << ", " << own_fine.error);
-  CHECK(coarse.error < 1e-3 * coarse.strain);
-  CHECK(fine.error < 0.3 * coarse.error);   // second order: 0.25
-  CHECK(own_fine.error > 0.5 * own.error);  // the own-family floor does not fall
+  const std::string ec = strip_case("energy_consistent", "centre_bonds", false);
+  const std::string own = strip_case("own_family", "centre_bonds", false);
+  const Run coarse = run_in_process("strip-ec", ec, 0.8);
+  const Run fine = run_in_process("strip-ec-fine", ec, 0.4);
+  const Run own_coarse = run_in_process("strip-own", own, 0.8);
+  const Run own_fine = run_in_process("strip-own-fine", own, 0.4);
+  INFO("pulled strip, strain energy "
+       << coarse.strain << " J/m. energy_consistent: balance error " << coarse.error << " (dt), "
+       << fine.error << " (dt/2); own_family: " << own_coarse.error << ", " << own_fine.error);
+  // Measured: 0.014 and 0.013 J/m (1.6e-5 of the strain energy, left by the prescribed
+  // velocities' work, not by the forces: the free strip below converges) against the
+  // own-family floor of 4.0 J/m (0.5 %) at both steps.
+  CHECK(coarse.error < 1e-4 * coarse.strain);
+  CHECK(fine.error < 1e-4 * fine.strain);
+  CHECK(own_coarse.error > 3e-3 * own_coarse.strain);
+  CHECK(own_fine.error > 0.5 * own_coarse.error);  // the own-family floor does not fall
+  // The same strip set free with the pull's velocities: the error falls like dt^2.
+  std::string free = ec;
+  for (std::size_t at; (at = free.find("{type: velocity")) != std::string::npos;)
+    free.replace(at, 15, "{type: initial_velocity");
+  const std::string ramp = ", components: [y], ramp_time: 2.0e-6";
+  for (std::size_t at; (at = free.find(ramp)) != std::string::npos;) free.erase(at, ramp.size());
+  const Run free_coarse = run_in_process("strip-free", free, 0.8);
+  const Run free_fine = run_in_process("strip-free-fine", free, 0.4);
+  INFO("free strip: balance error " << free_coarse.error << " (dt), " << free_fine.error
+                                    << " (dt/2)");
+  CHECK(free_fine.error < 0.3 * free_coarse.error);  // second order: 0.25
 }
 
 TEST_CASE("a tear's energy balance closes to second order under energy_consistent, either rule",
