@@ -47,12 +47,15 @@ BodyDefinition varied_block(int dimension, int nx, int ny, int nz, double nu, do
   return d;
 }
 
-// E = sum_c V^c (W1^c/2 + W2^c/3 + W3^c/4) from the point kernel's own-family energies.
-double total_energy(const Body& body) {
+// The part of E = sum_c V^c (W1^c/2 + W2^c/3 + W3^c/4) that depends on x^i: the own-family
+// energies (point kernel) of i and of the points whose family holds i (all of i's bond family).
+double total_energy(const Body& body, std::size_t i) {
   ckpd::FamilyScratch scratch;
-  double e = 0;
-  for (std::size_t c = 0; c < body.size(); ++c)
+  double e = body.volume[i] * ckpd::evaluate_point(body, i, scratch).strain_energy_density();
+  for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
+    const std::size_t c = body.family.neighbour[k];
     e += body.volume[c] * ckpd::evaluate_point(body, c, scratch).strain_energy_density();
+  }
   return e;
 }
 
@@ -64,9 +67,9 @@ double gradient_error(Body& body, std::size_t i, double h) {
   for (int c = 0; c < body.dimension; ++c) {
     const double u0 = body.displacement[i][c];
     body.displacement[i][c] = u0 + h;
-    const double ep = total_energy(body);
+    const double ep = total_energy(body, i);
     body.displacement[i][c] = u0 - h;
-    const double em = total_energy(body);
+    const double em = total_energy(body, i);
     body.displacement[i][c] = u0;
     g[c] = (ep - em) / (2 * h);
   }
@@ -125,20 +128,22 @@ TEST_CASE("energy-consistent symmetric kernel equals the energy-consistent refer
           "[conservative]") {
   ThreadCountGuard guard;
   const std::vector<Scene> scenes = {
-      {"2D lattice nu=0.2 (C2<0)", 2, 0.2, 0.0, 15, 13, 1},
-      {"2D lattice nu=0.4 (C2>0)", 2, 0.4, 0.0, 15, 13, 1},
-      {"2D cloud nu=0.4", 2, 0.4, 0.3, 15, 13, 1},
-      {"3D lattice nu=0.3 (C3>0)", 3, 0.3, 0.0, 7, 6, 6},
-      {"3D lattice nu=0.1 (C3<0)", 3, 0.1, 0.0, 6, 6, 6},
-      {"3D cloud nu=0.3", 3, 0.3, 0.25, 6, 6, 6},
-      {"3D cloud, triangles and tetrahedra", 3, 0.3, 0.1, 6, 5, 5, true},
-      {"2D cloud m=9.3 (two-word rows)", 2, 0.4, 0.2, 19, 18, 1, false, 9.3},
+      {"2D lattice nu=0.2 (C2<0)", 2, 0.2, 0.0, 13, 11, 1},
+      {"2D lattice nu=0.4 (C2>0)", 2, 0.4, 0.0, 13, 11, 1},
+      {"2D cloud nu=0.4", 2, 0.4, 0.3, 13, 11, 1},
+      {"3D lattice nu=0.3 (C3>0)", 3, 0.3, 0.0, 6, 6, 5},
+      {"3D lattice nu=0.1 (C3<0)", 3, 0.1, 0.0, 6, 5, 5},
+      {"3D cloud nu=0.3", 3, 0.3, 0.25, 6, 5, 5},
+      {"3D cloud, triangles and tetrahedra", 3, 0.3, 0.1, 5, 5, 5, true},
+      {"2D cloud m=9.3 (two-word rows)", 2, 0.4, 0.2, 16, 15, 1, false, 9.3},
   };
   for (const Scene& s : scenes)
     for (const DamageRule rule : {DamageRule::centre_bonds, DamageRule::all_edges})
       for (const bool stencil : {true, false})
         for (const double failed : {0.0, 0.2}) {
           if (stencil && s.jitter > 0) continue;  // clouds have no stencil
+          // Undamaged bodies once per path (the damage rule does not act on them).
+          if (failed == 0 && rule == DamageRule::all_edges) continue;
           std::mt19937 rng(12345);
           BodyDefinition d =
               block(s.dimension, s.nx, s.ny, s.nz, constants_for(s), s.jitter, rng, s.m);
@@ -235,7 +240,7 @@ namespace {
 // step; returns the largest relative change of its angular momentum about the origin.
 double tumbling_drift(ForceForm form, int steps) {
   std::mt19937 rng(3);
-  BodyDefinition d = varied_block(3, 8, 5, 4, 0.3, 0.0, form, DamageRule::centre_bonds, rng);
+  BodyDefinition d = varied_block(3, 6, 5, 4, 0.3, 0.0, form, DamageRule::centre_bonds, rng);
   d.critical_stretch = std::numeric_limits<double>::infinity();
   Body body = ckpd::make_body(d);
   const Vec3 omega(3000, -1500, 2000);  // rad/s: rim speeds of about 10 m/s
@@ -271,8 +276,8 @@ double tumbling_drift(ForceForm form, int steps) {
 
 TEST_CASE("a free tumbling brick keeps its angular momentum in the energy-consistent form",
           "[conservative]") {
-  const double ec = tumbling_drift(ForceForm::energy_consistent, 300);
-  const double own = tumbling_drift(ForceForm::own_family, 300);
+  const double ec = tumbling_drift(ForceForm::energy_consistent, 60);
+  const double own = tumbling_drift(ForceForm::own_family, 60);
   INFO("energy_consistent drift " << ec << ", own_family drift " << own);
   CHECK(ec < 1e-10);
   CHECK(own > 1e-7);
