@@ -25,7 +25,7 @@ inline void bond_loop_conservative(const Context<Model>& ctx, SymmetricKernelThr
   double* __restrict fz = t.fz.data();
   double* __restrict slot_w = t.w.data();
   const double dv1i = body.dv1[centre.index];
-  const double Vi = body.volume[centre.index], xi = Vi * dv1i;
+  const double Vi = body.volume[centre.index], xi = Vi * dv1i, inv_vi = 1 / Vi;
   double fix = 0, fiy = 0, fiz = 0, wi = 0;
   std::uint64_t bonds = 0;
   for (std::size_t wd = 0; wd < W; ++wd) {
@@ -44,7 +44,7 @@ inline void bond_loop_conservative(const Context<Model>& ctx, SymmetricKernelThr
       const double k = ctx.model.bond_coefficient(BondMeasure{L, inv_L}, l);
       const double dv1j = body.dv1[up[a]];
       const double K = 0.5 * (xi + vol[a] * dv1j);  // both ends hold the bond, both active
-      const double ki = k * (K / Vi), kj = k * (K / vol[a]);
+      const double ki = k * (K * inv_vi), kj = k * (K * t.inv_vol[a]);
       fix += ki * rx;
       fiy += ki * ry;
       fiz += ki * rz;
@@ -218,6 +218,8 @@ inline void tetrahedron_loop_conservative(const Context<Model>& ctx, SymmetricKe
   const double* __restrict k3 = t.k3.data();
   const double* __restrict e3 = t.e3.data();
   const double* __restrict vol = t.vol.data();
+  const double* __restrict inv_vol = t.inv_vol.data();
+  const double* __restrict x3 = t.x3.data();
   double* __restrict fx = t.fx.data();
   double* __restrict fy = t.fy.data();
   double* __restrict fz = t.fz.data();
@@ -233,7 +235,7 @@ inline void tetrahedron_loop_conservative(const Context<Model>& ctx, SymmetricKe
   const double Vi = body.volume[ii];
   const double k3i = model.tetrahedron_force_weight(body.dv3[ii]);
   // V^c k3^c of i, j (slot a) and k (slot b).
-  const double xi = Vi * k3i, xa = vol[a] * k3[a], xb = vol[b] * k3[b];
+  const double xi = Vi * k3i, xa = x3[a], xb = x3[b], xab = xi + xa + xb;
   // S = sum f' r and F = sum f' over the pair's tetrahedra, f' = f K with K the set's weight:
   // the forces on i, j and k follow as in tetrahedron_loop.hpp, each divided by its V.
   double S[3] = {0, 0, 0}, F = 0;
@@ -247,14 +249,15 @@ inline void tetrahedron_loop_conservative(const Context<Model>& ctx, SymmetricKe
     const bool inverted = (kEnergy || kPenalty) && model.tetrahedron_inverted(v, signed_ref);
     if constexpr (kEnergy) n_inverted += inverted;
     const double f = model.template tetrahedron_coefficient<kPenalty>(M, v, inverted);
-    const double X = ((mask & 1) ? xi : 0.0) + ((mask & 2) ? xa : 0.0) + ((mask & 4) ? xb : 0.0) +
-                     ((mask & 8) ? vol[c] * k3[c] : 0.0);
+    const double X = mask == 15 ? xab + x3[c]
+                                : ((mask & 1) ? xi : 0.0) + ((mask & 2) ? xa : 0.0) +
+                                      ((mask & 4) ? xb : 0.0) + ((mask & 8) ? x3[c] : 0.0);
     const double fk = f * (X / 4);
     S[0] += fk * r[0];
     S[1] += fk * r[1];
     S[2] += fk * r[2];
     F += fk;
-    const double kl = fk / vol[c];
+    const double kl = fk * inv_vol[c];
     fx[c] -= kl * pq[0];
     fy[c] -= kl * pq[1];
     fz[c] -= kl * pq[2];
@@ -353,14 +356,14 @@ inline void tetrahedron_loop_conservative(const Context<Model>& ctx, SymmetricKe
     if constexpr (kEnergy) centre.w += model.tetrahedron_energy_weight(body.dv3[ii]) * Ei;
   }
   {
-    const double inv = 1 / vol[a];
+    const double inv = inv_vol[a];
     fx[a] -= inv * (pb[1] * S[2] - pb[2] * S[1]);
     fy[a] -= inv * (pb[2] * S[0] - pb[0] * S[2]);
     fz[a] -= inv * (pb[0] * S[1] - pb[1] * S[0]);
     if constexpr (kEnergy) slot_w[a] += e3[a] * Ej;
   }
   {
-    const double inv = 1 / vol[b];
+    const double inv = inv_vol[b];
     fx[b] -= inv * (S[1] * pa[2] - S[2] * pa[1]);
     fy[b] -= inv * (S[2] * pa[0] - S[0] * pa[2]);
     fz[b] -= inv * (S[0] * pa[1] - S[1] * pa[0]);
