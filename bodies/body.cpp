@@ -57,6 +57,9 @@ void check_definition(const BodyDefinition& d) {
   } else if (d.strain_measure != 0.5 && d.model != nullptr) {
     msg << who << "a strain measure (m = " << d.strain_measure
         << ") is a CKPD option; this body's force model is " << d.model->name;
+  } else if (d.force_form != ForceForm::own_family && d.model != nullptr) {
+    msg << who << "force_form " << to_string(d.force_form)
+        << " is a CKPD option; this body's force model is " << d.model->name;
   } else if (d.dimension == 2 && d.constants.c3 != 0) {
     msg << who << "a 2D body has no three-neighbour interactions (C3 must be 0)";
   } else {
@@ -104,6 +107,25 @@ std::uint64_t hash_family(const QuantizedFamily& f) {
   return h;
 }
 
+// ForceForm::energy_consistent: per family n, the largest V^c dVn^c over point i and its bond
+// family, over V^i dVn^i (1 where all are equal, as in a lattice's interior; 1 for an empty
+// family).
+std::array<double, 3> conservative_bound_scale(const Body& body, std::size_t i) {
+  const std::vector<double>* dv[3] = {&body.dv1, &body.dv2, &body.dv3};
+  std::array<double, 3> r{1, 1, 1};
+  for (int f = 0; f < 3; ++f) {
+    const double own = body.volume[i] * (*dv[f])[i];
+    if (!(own > 0)) continue;
+    double most = own;
+    for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
+      const std::uint32_t j = body.family.neighbour[k];
+      most = std::max(most, body.volume[j] * (*dv[f])[j]);
+    }
+    r[static_cast<std::size_t>(f)] = most / own;
+  }
+  return r;
+}
+
 }  // namespace
 
 std::uint64_t Body::total_two_neighbour() const {
@@ -135,6 +157,17 @@ std::string to_string(DamageRule rule) {
   return rule == DamageRule::all_edges ? "all_edges" : "centre_bonds";
 }
 
+ForceForm force_form_from_string(const std::string& name) {
+  if (name == "own_family") return ForceForm::own_family;
+  if (name == "energy_consistent") return ForceForm::energy_consistent;
+  throw std::invalid_argument("force form must be 'own_family' or 'energy_consistent', got '" +
+                              name + "'");
+}
+
+std::string to_string(ForceForm form) {
+  return form == ForceForm::energy_consistent ? "energy_consistent" : "own_family";
+}
+
 Body make_body(BodyDefinition def) {
   check_definition(def);
   Body body;
@@ -151,7 +184,13 @@ Body make_body(BodyDefinition def) {
   body.model = def.model;
   body.strain_measure = def.strain_measure;
   body.state_based = def.state_based;
-  if (def.model == nullptr && def.strain_measure != 0.5) body.model = &ckpd_seth_hill_kernels();
+  body.force_form = def.force_form;
+  if (def.model == nullptr && def.force_form == ForceForm::energy_consistent) {
+    body.model = def.strain_measure != 0.5 ? &ckpd_seth_hill_conservative_kernels()
+                                           : &ckpd_conservative_kernels();
+  } else if (def.model == nullptr && def.strain_measure != 0.5) {
+    body.model = &ckpd_seth_hill_kernels();
+  }
   body.reference_position = std::move(def.reference_position);
   body.volume = std::move(def.volume);
   body.no_failure = std::move(def.no_failure);
@@ -258,6 +297,21 @@ Body make_body(BodyDefinition def) {
     }
   }
   if (!error.empty()) throw std::invalid_argument(error);
+  if (body.force_form == ForceForm::energy_consistent) {
+    // A set's weight at point i is the mean of V^c dVn^c over its vertices, over V^i: at most
+    // the largest V^c dVn^c of i's closed family over V^i dVn^i times i's own-family weight, so
+    // the own-family bound scaled by that ratio bounds it (THEORY.md section 2b).
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      const PointCensus& c = census[group[i]];
+      const std::array<double, 3> r = conservative_bound_scale(body, i);
+      const Mat3 q = std::abs(body.constants.c1) * body.dv1[i] * r[0] * c.q1 +
+                     std::abs(body.constants.c2) * body.dv2[i] * r[1] * c.q2 +
+                     std::abs(body.constants.c3) * body.dv3[i] * r[2] * c.q3;
+      body.stiffness_bound[i] =
+          Eigen::SelfAdjointEigenSolver<Mat3>(q, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+    }
+  }
   body.beta_cap = def.cap_beta;
   body.beta_capped_points = beta_capped;
   body.beta_max_raw = beta_max_raw;
@@ -291,9 +345,12 @@ StiffnessTerms stiffness_terms(const Body& body, std::size_t i) {
   auto largest = [](const Mat3& m) {
     return Eigen::SelfAdjointEigenSolver<Mat3>(m, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
   };
-  return {largest(std::abs(body.constants.c1) * body.dv1[i] * c.q1),
-          largest(std::abs(body.constants.c2) * body.dv2[i] * c.q2),
-          largest(std::abs(body.constants.c3) * body.dv3[i] * c.q3)};
+  const std::array<double, 3> r = body.force_form == ForceForm::energy_consistent
+                                      ? conservative_bound_scale(body, i)
+                                      : std::array<double, 3>{1, 1, 1};
+  return {largest(std::abs(body.constants.c1) * body.dv1[i] * r[0] * c.q1),
+          largest(std::abs(body.constants.c2) * body.dv2[i] * r[1] * c.q2),
+          largest(std::abs(body.constants.c3) * body.dv3[i] * r[2] * c.q3)};
 }
 
 double strain_energy(const Body& body) {

@@ -42,6 +42,17 @@ enum class DamageRule { centre_bonds, all_edges };
 DamageRule damage_rule_from_string(const std::string& name);  // throws std::invalid_argument
 std::string to_string(DamageRule rule);
 
+// How the CKPD forces follow from the energy (THEORY.md section 2b, MODEL.md section 2b).
+// own_family: the seed's law, each point differentiates its own family's energy with its own
+// effective volumes; not the gradient of one energy where the vertices of a set carry different
+// V dVn (surfaces, clouds) or where damage switches a set off for some vertices only.
+// energy_consistent: b^i = -(1/V^i) dE/dx^i of E = sum_c V^c (W1^c/2 + W2^c/3 + W3^c/4): every
+// set acts on all its vertices with the mean over its vertices (those whose family holds it and
+// where it is active) of V^c dVn^c, divided by the receiving point's V^i.
+enum class ForceForm { own_family, energy_consistent };
+ForceForm force_form_from_string(const std::string& name);  // throws std::invalid_argument
+std::string to_string(ForceForm form);
+
 struct BodyDefinition {
   std::string name;
   int dimension = 3;
@@ -86,6 +97,9 @@ struct BodyDefinition {
   double strain_measure = 0.5;
   // The state-based model's constants (state_based_model.hpp); unused by the other models.
   StateBasedConstants state_based;
+  // The CKPD model's force form (ForceForm); energy_consistent selects the conservative CKPD
+  // kernels. CKPD only (a model given in `model` must leave it at own_family).
+  ForceForm force_form = ForceForm::own_family;
 };
 
 // The symmetric kernel's degeneracy screens (symmetric_kernel.hpp), fixed by the reference
@@ -111,6 +125,7 @@ struct Body {
   const ForceModelKernels* model = nullptr;           // BodyDefinition::model (null: CKPD)
   double strain_measure = 0.5;                        // BodyDefinition::strain_measure
   StateBasedConstants state_based;                    // BodyDefinition::state_based
+  ForceForm force_form = ForceForm::own_family;       // BodyDefinition::force_form
 
   // Reference data per point, fixed for the run.
   std::vector<Vec3> reference_position;

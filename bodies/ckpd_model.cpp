@@ -13,4 +13,12 @@ const ForceModelKernels& ckpd_seth_hill_kernels() {
   return kernels_of<CkpdSethHillModel>();
 }
 
+const ForceModelKernels& ckpd_conservative_kernels() {
+  return kernels_of<CkpdConservativeModel>();
+}
+
+const ForceModelKernels& ckpd_seth_hill_conservative_kernels() {
+  return kernels_of<CkpdSethHillConservativeModel>();
+}
+
 }  // namespace ckpd

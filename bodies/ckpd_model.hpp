@@ -277,4 +277,21 @@ struct CkpdLaw {
 using CkpdModel = CkpdLaw<LinearStrain>;
 using CkpdSethHillModel = CkpdLaw<SethHillStrain>;
 
+// The same law in the energy-consistent force form (ForceForm::energy_consistent, THEORY.md
+// section 2b): the per-set law is unchanged; the kernels (conservative_form<Model>()) give
+// every set's force to all its vertices with the set's one weight, the sum over its active
+// vertices c of V^c times the per-vertex force weight, over (n + 1) V^receiver.
+template <class Law>
+struct ConservativeForm : Law {
+  static constexpr bool kConservative = true;
+  ConservativeForm() = default;
+  explicit ConservativeForm(const Law& law) : Law(law) {}
+  template <class BodyT>
+  static ConservativeForm of(const BodyT& body) {
+    return ConservativeForm(Law::of(body));
+  }
+};
+using CkpdConservativeModel = ConservativeForm<CkpdModel>;
+using CkpdSethHillConservativeModel = ConservativeForm<CkpdSethHillModel>;
+
 }  // namespace ckpd

@@ -41,6 +41,9 @@ struct ForceModelKernels {
 const ForceModelKernels& ckpd_kernels();
 // The CKPD model with a Seth-Hill strain measure m != 1/2 (Body::strain_measure).
 const ForceModelKernels& ckpd_seth_hill_kernels();
+// The same two with ForceForm::energy_consistent (Body::force_form; ckpd_model.hpp).
+const ForceModelKernels& ckpd_conservative_kernels();
+const ForceModelKernels& ckpd_seth_hill_conservative_kernels();
 
 // The table of a body's model.
 const ForceModelKernels& force_model(const Body& body);

@@ -58,8 +58,11 @@ Eigen::Matrix3d point_kirchhoff_stress(const Body& body, std::size_t i, FamilySc
   if (body.family.offset.size() != body.size() + 1)
     throw std::invalid_argument("body '" + body.name + "' has no families (a rigid body)");
   const ForceModelKernels& kernels = force_model(body);
-  if (&kernels == &ckpd_kernels()) return stress_of(CkpdModel::of(body), body, i, scratch);
-  if (&kernels == &ckpd_seth_hill_kernels())
+  // Both force forms share the own-family energy (THEORY.md section 2b), so its virial is the
+  // stress of either.
+  if (&kernels == &ckpd_kernels() || &kernels == &ckpd_conservative_kernels())
+    return stress_of(CkpdModel::of(body), body, i, scratch);
+  if (&kernels == &ckpd_seth_hill_kernels() || &kernels == &ckpd_seth_hill_conservative_kernels())
     return stress_of(CkpdSethHillModel::of(body), body, i, scratch);
   if (std::strcmp(kernels.name, PmbModel::kName) == 0)
     return stress_of(PmbModel::of(body), body, i, scratch);

@@ -32,6 +32,17 @@ struct BondMeasure {
   double times_square(double e) const { return L * e * e; }
 };
 
+// Whether a model's kernels use the energy-consistent force form (ckpd_model.hpp,
+// ConservativeForm): models without the member use their own family's law.
+template <class Model>
+constexpr bool conservative_form() {
+  if constexpr (requires { Model::kConservative; }) {
+    return Model::kConservative;
+  } else {
+    return false;
+  }
+}
+
 // sign(0) = 0. (A branch-free form measured 10% slower on lattices, where the orientation of
 // consecutive tetrahedra is well predicted.)
 inline double sign_of(double v) {

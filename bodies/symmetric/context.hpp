@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "bodies/lattice_stencil.hpp"
+#include "bodies/set_law.hpp"
 #include "bodies/symmetric_kernel.hpp"
 
 namespace ckpd {
@@ -25,8 +26,9 @@ struct SymmetricKernelThread {
   // Per slot, structure of arrays: global index, reference and current offsets from i.
   std::vector<std::uint32_t> up;
   std::vector<double> Rx, Ry, Rz, rx, ry, rz;
-  // Per slot weights: 2 C2 dV2, C2 dV2 / 3, 6 C3 dV3, 3 C3 dV3 / 4 of the slot's point.
-  std::vector<double> k2, e2, k3, e3;
+  // Per slot weights: 2 C2 dV2, C2 dV2 / 3, 6 C3 dV3, 3 C3 dV3 / 4 of the slot's point; and,
+  // for the energy-consistent force form, its volume V, 1 / V and V 6 C3 dV3.
+  std::vector<double> k2, e2, k3, e3, vol, inv_vol, x3;
   // Per slot accumulators of the force and energy the slot's point receives from i's sets.
   std::vector<double> fx, fy, fz, w;
   // Bit rows, `words` per slot: own = bonds i-slot intact; adj row a = slots b > a that are
@@ -46,7 +48,8 @@ struct SymmetricKernelThread {
 
   void reserve(std::size_t slots, std::size_t row_words) {
     if (up.size() < slots) {
-      for (auto* v : {&Rx, &Ry, &Rz, &rx, &ry, &rz, &k2, &e2, &k3, &e3, &fx, &fy, &fz, &w})
+      for (auto* v : {&Rx, &Ry, &Rz, &rx, &ry, &rz, &k2, &e2, &k3, &e3, &vol, &inv_vol, &x3, &fx,
+                      &fy, &fz, &w})
         v->resize(slots);
       up.resize(slots);
       list.resize(slots);
@@ -197,6 +200,11 @@ inline void fill_slot(const Context<Model>& ctx, SymmetricKernelThread& t, std::
   if constexpr (Model::kTetrahedra) {
     t.k3[a] = ctx.model.tetrahedron_force_weight(body.dv3[j]);
     t.e3[a] = ctx.model.tetrahedron_energy_weight(body.dv3[j]);
+  }
+  if constexpr (conservative_form<Model>()) {
+    t.vol[a] = body.volume[j];
+    t.inv_vol[a] = 1 / body.volume[j];
+    if constexpr (Model::kTetrahedra) t.x3[a] = body.volume[j] * t.k3[a];
   }
   t.fx[a] = t.fy[a] = t.fz[a] = t.w[a] = 0;
 }

@@ -5,6 +5,7 @@
 // With kEnergy the inverted sets are counted; with kPenalty they get the inversion penalty.
 // With kStencil, point i's slots and reference geometry come from the body's lattice stencil.
 #include "bodies/symmetric/bond_loop.hpp"
+#include "bodies/symmetric/conservative_terms.hpp"
 #include "bodies/symmetric/load_general.hpp"
 #include "bodies/symmetric/load_stencil.hpp"
 #include "bodies/symmetric/tetrahedron_loop.hpp"
@@ -21,7 +22,12 @@ void process_point(const Context<Model>& ctx, std::size_t i, SymmetricKernelThre
   if (count == 0) return;
   Centre centre;
   centre.index = static_cast<std::uint32_t>(i);
-  bond_loop<Model, kEnergy, kStencil>(ctx, t, centre);
+  constexpr bool kConservative = conservative_form<Model>();
+  if constexpr (kConservative) {
+    bond_loop_conservative<Model, kEnergy, kStencil>(ctx, t, centre);
+  } else {
+    bond_loop<Model, kEnergy, kStencil>(ctx, t, centre);
+  }
 
   if constexpr (kSets) {
     const LatticeStencil* st = ctx.stencil;
@@ -74,11 +80,23 @@ void process_point(const Context<Model>& ctx, std::size_t i, SymmetricKernelThre
           pr.pq[1] = pa[2] * pb[0] - pa[0] * pb[2];
           pr.pq[2] = pa[0] * pb[1] - pa[1] * pb[0];
           if constexpr (Model::kTriangles) {
-            if (ctx.pairs) triangle_term<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
+            if (ctx.pairs) {
+              if constexpr (kConservative) {
+                triangle_term_conservative<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
+              } else {
+                triangle_term<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
+              }
+            }
           }
           if constexpr (Model::kTetrahedra) {
-            if (ctx.triples)
-              tetrahedron_loop<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
+            if (ctx.triples) {
+              if constexpr (kConservative) {
+                tetrahedron_loop_conservative<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre,
+                                                                                  pr);
+              } else {
+                tetrahedron_loop<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
+              }
+            }
           }
         }
       }

@@ -195,6 +195,14 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
     if (rule != "centre_bonds" && rule != "all_edges") f->fail("'centre_bonds' or 'all_edges'");
     def.damage_rule = damage_rule_from_string(rule);
   }
+  std::optional<CaseNode> force_form_node = n.optional("force_form");
+  if (force_form_node) {
+    // How the CKPD forces follow from the energy (BodyDefinition::force_form, THEORY.md 2b).
+    const std::string form = force_form_node->as_string();
+    if (form != "own_family" && form != "energy_consistent")
+      force_form_node->fail("'own_family' or 'energy_consistent'");
+    def.force_form = force_form_from_string(form);
+  }
   // lattice_stencil: false keeps the general kernel path on a lattice body (comparisons).
   if (auto f = n.optional("lattice_stencil")) def.lattice_stencil = f->as_bool();
   // constants: analytic (THEORY.md section 3, default) or calibrated to the lattice's patch
@@ -221,6 +229,11 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
     mat.node.fail(std::string("constants valid for body '") + def.name + "' (" + e.what() + ")");
   }
 
+  // The force form is a CKPD option; other models' forces are their own (PMB's pairwise ones
+  // are already the gradient of one energy).
+  if (force_form_node && def.model != nullptr && def.force_form != ForceForm::own_family)
+    force_form_node->fail("own_family (energy_consistent is a CKPD option; body '" + def.name +
+                          "' has force model " + def.model->name + ")");
   if (auto p = n.optional("precracks")) def.precracks = read_precracks(*p, def.dimension);
   if (auto zones = n.optional("no_failure")) {
     def.no_failure.assign(def.reference_position.size(), 0);

@@ -1,6 +1,7 @@
 #include "src/output/kernel_report.hpp"
 
 #include <sstream>
+#include <string>
 
 #include "bodies/force_model.hpp"
 #include "bodies/lattice_stencil.hpp"
@@ -10,6 +11,11 @@
 namespace ckpd {
 
 namespace {
+
+// A CKPD body: the default table, or one of the CKPD model's other instantiations.
+bool is_ckpd(const Body& body) {
+  return body.model == nullptr || std::string(force_model(body).name) == "ckpd";
+}
 
 // Why a body takes the general path.
 std::string general_reason(const Body& body) {
@@ -24,8 +30,9 @@ std::string kernel_path_note(const Body& body) {
   os << force_model(body).name << " model";
   if (body.model == &state_based_kernels())
     os << " (strain measure m = " << body.state_based.m << ")";
-  else if (body.model == nullptr || body.strain_measure != 0.5)
-    os << " (strain measure m = " << body.strain_measure << ")";
+  else if (is_ckpd(body))
+    os << " (strain measure m = " << body.strain_measure << ", force form "
+       << to_string(body.force_form) << ")";
   os << ", ";
   if (uses_lattice_stencil(body)) {
     const LatticeStencil& st = *body.stencil;
@@ -44,11 +51,14 @@ nlohmann::ordered_json kernel_path_summary(const Body& body) {
     j = {{"model", model}, {"path", "stencil"}, {"stencil_bytes", body.stencil->bytes()}};
   else
     j = {{"model", model}, {"path", "general"}, {"note", general_reason(body)}};
-  // CKPD bodies (the default law and the Seth-Hill one) report their strain measure.
-  if (body.model == &state_based_kernels())
+  // CKPD bodies (the default law and the Seth-Hill one, either force form) report their strain
+  // measure and force form; state-based bodies their strain measure.
+  if (body.model == &state_based_kernels()) {
     j["strain_measure"] = {{"m", body.state_based.m}};
-  else if (body.model == nullptr || body.strain_measure != 0.5)
+  } else if (is_ckpd(body)) {
     j["strain_measure"] = {{"m", body.strain_measure}};
+    j["force_form"] = to_string(body.force_form);
+  }
   return j;
 }
 

@@ -130,6 +130,7 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
          {"constants", {{"c1", b.constants.c1}, {"c2", b.constants.c2}, {"c3", b.constants.c3}}},
          {"kernel", kernel_path_summary(b)},
          {"damage_rule", to_string(b.damage_rule)},
+         {"force_form", to_string(b.force_form)},
          {"critical_stretch", b.damage_enabled ? nlohmann::ordered_json(b.critical_stretch)
                                                : nlohmann::ordered_json(nullptr)},
          {"precracked_bonds", sim.precracked_bonds(index)},
