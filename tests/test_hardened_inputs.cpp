@@ -201,7 +201,10 @@ TEST_CASE("an impact faster than the contact can stop is flagged, not completed"
   // sphere passed through the plate with no damage; the closing speed is now checked against
   // l_c sqrt(k / rho), the speed the penalty can stop within l_c.
   expect_refused(replace(kImpact, "value: [0, 0, -10]", "value: [0, 0, -1e6]"),
-                 {"plate/ball close at 1e+06 m/s", "would pass through each other"});
+                 {"case.yaml: conditions: bodies plate/ball close at 1e+06 m/s",
+                  "would pass through each other"});
+  expect_refused(replace(kImpact, "value: [0, 0, -10]", "value: [0, 0, -2.9e8]"),
+                 {"case.yaml: conditions: bodies plate/ball close at 2.9e+08 m/s"});
 }
 
 TEST_CASE("a time step above the estimate names the file, line and key", "[hardened]") {
@@ -319,8 +322,9 @@ TEST_CASE("a sweep whose set: or values the case refuses is refused by --dry-run
   refused("set:\n  bodies.block.spacinx: 0.002\n" + m,
           {"bad.yaml: run 0 (m=3.015) does not load", "bodies.block.spacinx=0.002",
            "bodies[0].spacinx: unknown key 'spacinx' (did you mean 'spacing'?)"});
-  refused("set:\n  output.history_intervall: 5\n" + m,
-          {"does not load", "output.history_intervall", "did you mean 'history_interval'"});
+  refused(
+      "set:\n  time.stepz: 5\n" + m,
+      {"does not load", "time.stepz=5", "time.stepz: unknown key 'stepz' (did you mean 'steps'?)"});
   // A value out of bounds in one run only.
   refused("parameters:\n  m: {key: bodies.block.horizon_ratio, values: [3.015, 1e4]}\n",
           {"bad.yaml: run 1 (m=1e4) does not load", "bodies[0].horizon_ratio",
@@ -391,6 +395,31 @@ TEST_CASE("SIGTERM during set-up exits 130 with a message and writes nothing", "
   const auto out = dir / "out";
   const CommandResult r =
       run_ckpd("run " + file + " --quiet --out " + out.string() +
+               " 2>&1 & pid=$!; sleep 0.5; kill -TERM $pid; wait $pid; echo exit=$?");
+  INFO(r.output);
+  CHECK(r.output.find("exit=130") != std::string::npos);
+  CHECK(r.output.find("interrupted (SIGTERM) during set-up; nothing was run or written") !=
+        std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(out));
+}
+
+TEST_CASE("SIGTERM while a sweep loads its runs' cases exits 130 with a message",
+          "[hardened][sweep]") {
+  // The sweep loads each run's case before the first starts (seconds for this block): a signal
+  // then killed it silently (exit 143).
+  const std::string text =
+      replace(replace(kImpact, "min: [-0.01, -0.01, -0.002], max: [0.01, 0.01, 0]",
+                      "min: [-0.03, -0.03, -0.06], max: [0.03, 0.03, 0]"),
+              "contact:\n  stiffness: 1.0e12\n", "");
+  const auto dir = fresh_dir("hardened-sweep-sigterm");
+  write_file(dir / "base.yaml", text);
+  const std::string sweep =
+      write_file(dir / "s.yaml",
+                 "base: base.yaml\nparameters:\n  m: {key: bodies.ball.horizon_ratio, "
+                 "values: [3.015, 3.5, 4]}\n");
+  const auto out = dir / "out";
+  const CommandResult r =
+      run_ckpd("sweep " + sweep + " --out " + out.string() +
                " 2>&1 & pid=$!; sleep 0.5; kill -TERM $pid; wait $pid; echo exit=$?");
   INFO(r.output);
   CHECK(r.output.find("exit=130") != std::string::npos);
