@@ -1,8 +1,8 @@
 // libFuzzer harness: the case loader (load_scene: YAML, every section's keys, geometry sampling,
 // body construction). An input must either load or throw CaseError (exit 2 in the CLI); any
 // other exception, a crash, a hang or a sanitizer report is a finding. The memory budget is set
-// low (64 MiB) so that a valid but large case is refused by the estimate instead of being built:
-// the harness looks for loader bugs, not for big bodies.
+// low (16 MiB: bodies of a few thousand points) so that a valid but large case is refused by the
+// estimate instead of being built: the harness looks for loader bugs, not for big bodies.
 #include <cstdint>
 #include <string>
 
@@ -11,7 +11,7 @@
 #include "src/geometry/work_estimate.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const bool budget = (ckpd::set_default_memory_budget(64ull << 20), true);
+  static const bool budget = (ckpd::set_default_memory_budget(16ull << 20), true);
   (void)budget;
   const std::string file = ckpd::fuzz::write_input("fuzz_case.yaml", data, size);
   try {

@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer harnesses (fuzz/, clang, ASan + UBSan) in build-fuzz and runs them.
+# Builds the libFuzzer harnesses (fuzz/, clang, ASan + UBSan) in build-san
+# (scripts/sanitizer_build.sh, shared with scripts/test_sanitized.sh) and runs them.
 #   scripts/fuzz.sh [seconds per target, default 60] [target ...]
 # Targets: fuzz_case_loader fuzz_sweep_file fuzz_expression (default: all three, one after
 # the other; run several copies of the script for parallel runs). Each target's corpus lives
-# in build-fuzz/corpus/<target> (seeded from cases/ on first use), findings in
-# build-fuzz/findings/<target>, the log in build-fuzz/<target>.log. libFuzzer's -fork mode keeps
+# in build-san/corpus/<target> (seeded from cases/ on first use), findings in
+# build-san/findings/<target>, the log in build-san/<target>.log. libFuzzer's -fork mode keeps
 # going after a finding, so one run reports every crash, timeout and out-of-memory it meets.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,13 +14,11 @@ shift || true
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(fuzz_case_loader fuzz_sweep_file fuzz_expression)
 
-cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DCKPD_FUZZ=ON -DBUILD_TESTING=OFF \
-  -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
-  -DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache >/dev/null
-cmake --build build-fuzz -j "${CKPD_FUZZ_JOBS:-2}" --target "${targets[@]}"
+build="${CKPD_SAN_BUILD:-build-san}"
+scripts/sanitizer_build.sh "${targets[@]}"
 
 seed() {  # the seed corpus of one target, from cases/
-  local target=$1 dir=build-fuzz/corpus/$1
+  local target=$1 dir=$build/corpus/$1
   [ -d "$dir" ] && return
   mkdir -p "$dir"
   case "$target" in
@@ -39,9 +38,9 @@ seed() {  # the seed corpus of one target, from cases/
 
 for target in "${targets[@]}"; do
   seed "$target"
-  mkdir -p "build-fuzz/findings/$target"
+  mkdir -p "$build/findings/$target"
   # -timeout: a single input taking 10 s is a hang; -rss_limit_mb: 2 GB is a memory blow-up.
-  "./build-fuzz/fuzz/$target" "build-fuzz/corpus/$target" -fork=1 -ignore_crashes=1 \
+  "./$build/fuzz/$target" "$build/corpus/$target" -fork=1 -ignore_crashes=1 \
     -ignore_timeouts=1 -ignore_ooms=1 -timeout=10 -rss_limit_mb=2048 -max_total_time="$seconds" \
-    -artifact_prefix="build-fuzz/findings/$target/" 2>&1 | tee "build-fuzz/$target.log" | tail -5
+    -artifact_prefix="$build/findings/$target/" 2>&1 | tee "$build/$target.log" | tail -5
 done

@@ -201,7 +201,10 @@ TEST_CASE("an impact faster than the contact can stop is flagged, not completed"
   // sphere passed through the plate with no damage; the closing speed is now checked against
   // l_c sqrt(k / rho), the speed the penalty can stop within l_c.
   expect_refused(replace(kImpact, "value: [0, 0, -10]", "value: [0, 0, -1e6]"),
-                 {"plate/ball close at 1e+06 m/s", "would pass through each other"});
+                 {"case.yaml: conditions: bodies plate/ball close at 1e+06 m/s",
+                  "would pass through each other"});
+  expect_refused(replace(kImpact, "value: [0, 0, -10]", "value: [0, 0, -2.9e8]"),
+                 {"case.yaml: conditions: bodies plate/ball close at 2.9e+08 m/s"});
 }
 
 TEST_CASE("a time step above the estimate names the file, line and key", "[hardened]") {
@@ -299,6 +302,59 @@ TEST_CASE("sweep expressions and sizes past their bounds are refused at once",
           "at most 100000 runs (the grid has 9");
 }
 
+TEST_CASE("a sweep whose set: or values the case refuses is refused by --dry-run and at start",
+          "[hardened][sweep]") {
+  // A `set:` key the base case does not have passed --dry-run, then every run failed.
+  const auto dir = fresh_dir("hardened-sweep-load");
+  write_sweep_base(dir);
+  auto refused = [&](const std::string& body, std::initializer_list<std::string> fragments) {
+    const std::string sweep = write_file(dir / "bad.yaml", "base: base.yaml\n" + body);
+    const auto out = dir / "out";
+    for (const std::string args : {" --dry-run", " --quiet"}) {
+      const CommandResult r = run_ckpd("sweep " + sweep + " --out " + out.string() + args);
+      INFO(args << "\n" << r.output.substr(0, 2000));
+      CHECK(r.exit_code == 2);
+      for (const std::string& f : fragments) CHECK(r.output.find(f) != std::string::npos);
+      CHECK_FALSE(std::filesystem::exists(out));
+    }
+  };
+  const std::string m = "parameters:\n  m: {key: bodies.block.horizon_ratio, values: [3.015, 4]}\n";
+  refused("set:\n  bodies.block.spacinx: 0.002\n" + m,
+          {"bad.yaml: run 0 (m=3.015) does not load", "bodies.block.spacinx=0.002",
+           "bodies[0].spacinx: unknown key 'spacinx' (did you mean 'spacing'?)"});
+  refused(
+      "set:\n  time.stepz: 5\n" + m,
+      {"does not load", "time.stepz=5", "time.stepz: unknown key 'stepz' (did you mean 'steps'?)"});
+  // A value out of bounds in one run only.
+  refused("parameters:\n  m: {key: bodies.block.horizon_ratio, values: [3.015, 1e4]}\n",
+          {"bad.yaml: run 1 (m=1e4) does not load", "bodies[0].horizon_ratio",
+           "at most 100000 lattice offsets"});
+  // One key set twice in a run: the last value would win silently.
+  refused(m + "  dx: {key: bodies.block.horizon_ratio, values: [3]}\n",
+          {"bad.yaml:4: parameters.dx.key: 'bodies.block.horizon_ratio' is set by parameter 'm'"});
+  refused("set:\n  bodies.block.horizon_ratio: 3\n" + m,
+          {"bad.yaml:5: parameters.m.key: 'bodies.block.horizon_ratio' is set by set: already"});
+  // A list index past size_t in a parameter key (std::stoul threw: exit 1).
+  refused("parameters:\n  dx: {key: bodies.99999999999999999999.spacing, values: [0.001]}\n",
+          {"bad.yaml:3: parameters.dx.key: 'bodies.99999999999999999999.spacing' does not exist"});
+}
+
+TEST_CASE("a --set list index too long for any list is exit 2 naming it, not stoul's exit 1",
+          "[hardened]") {
+  const auto dir = fresh_dir("hardened-set-index");
+  const std::string file = write_file(dir / "case.yaml", kPlate);
+  for (const std::string command : {"check ", "run "}) {
+    const CommandResult r =
+        run_ckpd(command + file + " --set bodies.99999999999999999999.spacing=1" +
+                 (command == "run " ? " --quiet --out " + (dir / "out").string() : ""));
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("--set bodies.99999999999999999999.spacing: 'bodies' has no element "
+                        "'99999999999999999999'") != std::string::npos);
+  }
+  CHECK_FALSE(std::filesystem::exists(dir / "out"));
+}
+
 TEST_CASE("check's timed steps exit 3 on an instability, as run does", "[hardened]") {
   // dt forced to 20 x the stable estimate: the first steps blow up.
   const std::string text = replace(
@@ -347,6 +403,31 @@ TEST_CASE("SIGTERM during set-up exits 130 with a message and writes nothing", "
   CHECK_FALSE(std::filesystem::exists(out));
 }
 
+TEST_CASE("SIGTERM while a sweep loads its runs' cases exits 130 with a message",
+          "[hardened][sweep]") {
+  // The sweep loads each run's case before the first starts (seconds for this block): a signal
+  // then killed it silently (exit 143).
+  const std::string text =
+      replace(replace(kImpact, "min: [-0.01, -0.01, -0.002], max: [0.01, 0.01, 0]",
+                      "min: [-0.03, -0.03, -0.06], max: [0.03, 0.03, 0]"),
+              "contact:\n  stiffness: 1.0e12\n", "");
+  const auto dir = fresh_dir("hardened-sweep-sigterm");
+  write_file(dir / "base.yaml", text);
+  const std::string sweep =
+      write_file(dir / "s.yaml",
+                 "base: base.yaml\nparameters:\n  m: {key: bodies.ball.horizon_ratio, "
+                 "values: [3.015, 3.5, 4]}\n");
+  const auto out = dir / "out";
+  const CommandResult r =
+      run_ckpd("sweep " + sweep + " --out " + out.string() +
+               " 2>&1 & pid=$!; sleep 0.5; kill -TERM $pid; wait $pid; echo exit=$?");
+  INFO(r.output);
+  CHECK(r.output.find("exit=130") != std::string::npos);
+  CHECK(r.output.find("interrupted (SIGTERM) during set-up; nothing was run or written") !=
+        std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(out));
+}
+
 TEST_CASE("a restart after SIGTERM continues the history without a repeated row", "[hardened]") {
   // Moving (a body at rest trips the energy guard on round-off over thousands of steps).
   const std::string text =
@@ -380,4 +461,43 @@ TEST_CASE("a restart after SIGTERM continues the history without a repeated row"
     previous = step;
   }
   CHECK(previous == stopped + 20);
+}
+
+TEST_CASE("a restart from a checkpoint of the last step repeats no history row", "[hardened]") {
+  // The checkpoint interval divides the step count: the checkpoint is of the last step, as when
+  // SIGTERM arrives during the last step. Restarting from it (a sweep continues such a run)
+  // wrote the last row again.
+  const std::string text =
+      replace(kPlate, "time: {steps: 5}",
+              "conditions:\n  - {type: initial_velocity, body: plate, value: [1, 0]}\n"
+              "time: {steps: 20}\noutput: {history_interval: 7, checkpoint_interval: 10}");
+  const auto dir = fresh_dir("hardened-history-end");
+  const std::string file = write_file(dir / "case.yaml", text);
+  const auto out = dir / "out";
+  REQUIRE(run_ckpd("run " + file + " --quiet --out " + out.string()).exit_code == 0);
+  auto steps = [&] {
+    std::ifstream history(out / "history.csv");
+    std::string line, list;
+    std::getline(history, line);
+    while (std::getline(history, line)) list += line.substr(0, line.find(',')) + " ";
+    return list;
+  };
+  CHECK(steps() == "0 7 14 20 ");
+  for (int restart = 0; restart < 2; ++restart) {
+    const CommandResult r = run_ckpd("run " + file + " --quiet --out " + out.string() +
+                                     " --restart " + (out / "checkpoint.h5").string());
+    INFO(r.output);
+    CHECK(r.exit_code == 0);
+    CHECK(steps() == "0 7 14 20 ");
+  }
+  // From the checkpoint of step 10 (a later run was cut off): rows up to 10 kept, then 14, 20.
+  const CommandResult r =
+      run_ckpd("run " + file + " --quiet --out " + out.string() + " --set time.steps=10");
+  REQUIRE(r.exit_code == 0);
+  CHECK(steps() == "0 7 10 ");
+  const CommandResult more = run_ckpd("run " + file + " --quiet --out " + out.string() +
+                                      " --restart " + (out / "checkpoint.h5").string());
+  INFO(more.output);
+  CHECK(more.exit_code == 0);
+  CHECK(steps() == "0 7 10 14 20 ");
 }

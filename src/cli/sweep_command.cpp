@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "src/cli/cli_options.hpp"
+#include "src/cli/setup_interrupt.hpp"
 #include "src/sweep/runner.hpp"
 #include "src/sweep/sweep_file.hpp"
 #include "src/sweep/sweep_table.hpp"
@@ -40,6 +41,9 @@ std::string own_program() {
 }
 
 int run_sweep_command(const SweepOptions& opt) {
+  // Resolving the sweep and loading each run's case write nothing: a signal meanwhile stops at
+  // once with a message (run_sweep installs its own handlers before the first run starts).
+  stop_on_signal_during_setup();
   sweep::RunnerOptions r;
   if (!opt.shard.empty()) r.shard = sweep::parse_shard(opt.shard);
   const sweep::Sweep s = sweep::load_sweep(opt.file);

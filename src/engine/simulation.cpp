@@ -110,7 +110,9 @@ StepChoice choose_time_step(const Scene& scene) {
     }
   }
   if (!std::isfinite(c.estimate))
-    throw std::invalid_argument("no body has any interaction: the stable step is unbounded");
+    throw std::invalid_argument(
+        (scene.case_file.empty() ? std::string() : scene.case_file + ": bodies: ") +
+        "no body has any interaction: the stable step is unbounded");
   // Contact tunnelling: two bodies closing at v_a + v_b cover that times dt per step.
   for (const ContactPairRadius& p : contact_pair_radii(scene)) {
     const double closing = initial_speed(scene.bodies[p.a]) + initial_speed(scene.bodies[p.b]);
@@ -132,6 +134,8 @@ StepChoice choose_time_step(const Scene& scene) {
     }
     if (closing > stoppable && !scene.time.allow_unstable_dt) {
       std::ostringstream msg;
+      // The speeds come from the case's initial or prescribed velocities.
+      if (!scene.case_file.empty()) msg << scene.case_file << ": conditions: ";
       msg << "bodies " << scene.bodies[p.a].body.name << "/" << scene.bodies[p.b].body.name
           << " close at " << closing
           << " m/s, faster than their contact can stop within l_c = " << p.radius

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 
 #include "src/input/nearest_name.hpp"
@@ -326,6 +327,17 @@ YAML::Node load_case_yaml(const std::string& file, const std::vector<std::string
   return root;
 }
 
+std::optional<std::size_t> parse_index(const std::string& text) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos) return {};
+  std::size_t value = 0;
+  for (const char c : text) {
+    const std::size_t digit = static_cast<std::size_t>(c - '0');
+    if (value > (std::numeric_limits<std::size_t>::max() - digit) / 10) return {};
+    value = value * 10 + digit;
+  }
+  return value;
+}
+
 void apply_overrides(YAML::Node& root, const std::vector<std::string>& overrides,
                      const std::string& file, std::vector<CaseNode::Override>* applied) {
   for (const std::string& item : overrides) {
@@ -351,10 +363,9 @@ void apply_overrides(YAML::Node& root, const std::vector<std::string>& overrides
       YAML::Node next;
       if (node.IsSequence()) {
         bool found = false;
-        const bool numeric =
-            !key.empty() && key.find_first_not_of("0123456789") == std::string::npos;
+        const std::optional<std::size_t> index = parse_index(key);
         for (std::size_t e = 0; e < node.size() && !found; ++e) {
-          if ((numeric && std::stoul(key) == e) ||
+          if ((index && *index == e) ||
               (node[e].IsMap() && node[e]["name"] && node[e]["name"].Scalar() == key)) {
             next.reset(node[e]);
             found = true;

@@ -90,6 +90,10 @@ class CaseNode {
   std::string override_;  // the --set text this node came from; "" when from the file
 };
 
+// A list index written as a key (`bodies.0.spacing`): the number when `text` is decimal digits
+// only and fits in size_t, else nothing (no exception, however long the digits run).
+std::optional<std::size_t> parse_index(const std::string& text);
+
 // Throws CaseError (file:line) for a key given twice in one map, a key that is not a plain
 // scalar (`? [a, b]`) and a scalar that is not valid UTF-8: yaml-cpp accepts all three, and the
 // first value of a duplicated key would silently win.

@@ -35,7 +35,10 @@ HistoryWriter::HistoryWriter(const std::string& path, long long resume_after_ste
         const auto comma = line.find(',');
         if (comma == std::string::npos) break;  // a cut-off last line
         const long long step = std::stoll(line.substr(0, comma));
-        if (step <= resume_after_step) kept.push_back(line);
+        if (step <= resume_after_step) {
+          kept.push_back(line);
+          last_step_ = step;
+        }
       }
     }
   }
@@ -47,6 +50,8 @@ HistoryWriter::HistoryWriter(const std::string& path, long long resume_after_ste
 }
 
 void HistoryWriter::write_row(const Simulation& sim) {
+  if (sim.step() == last_step_) return;
+  last_step_ = sim.step();
   const Energies e = sim.energies();
   out_ << std::setprecision(10) << sim.step() << ',' << sim.time() << ',' << e.kinetic << ','
        << e.strain << ',' << e.contact << ',' << e.external_work << ',' << e.dissipated << ','

@@ -17,12 +17,15 @@ class HistoryWriter {
   // `chosen`: the case's extra columns (output.history), after the default ones.
   explicit HistoryWriter(const std::string& path, long long resume_after_step = -1,
                          std::vector<HistoryQuantity> chosen = {});
+  // One row per step: a second call at the step of the last row (kept from before a restart
+  // or written by this process) writes nothing.
   void write_row(const Simulation& sim);
 
  private:
   std::ofstream out_;
   std::string path_;
   std::vector<HistoryQuantity> chosen_;
+  long long last_step_ = -1;  // the step of the last row in the file
 };
 
 // Peak resident set size of this process in MB.

@@ -1,5 +1,6 @@
 #include "src/sweep/json_path.hpp"
 
+#include "src/input/case_node.hpp"
 #include "src/sweep/generators.hpp"
 
 namespace ckpd::sweep {
@@ -50,9 +51,9 @@ std::optional<nlohmann::json> find_json(const nlohmann::json& root, const std::s
       const auto it = node->find(key);
       if (it != node->end()) next = &*it;
     } else if (node->is_array()) {
-      const bool numeric = key.find_first_not_of("0123456789") == std::string::npos;
-      if (numeric && std::stoull(key) < node->size()) {
-        next = &(*node)[std::stoull(key)];
+      const std::optional<std::size_t> index = parse_index(key);
+      if (index && *index < node->size()) {
+        next = &(*node)[*index];
       } else {
         for (const auto& e : *node)
           if (e.is_object() && e.contains("name") && e["name"] == key) next = &e;

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "src/case/case_loader.hpp"
 #include "src/sweep/generators.hpp"
 #include "src/sweep/json_path.hpp"
 
@@ -142,6 +143,23 @@ std::string clock_text(double seconds) {
   return buf;
 }
 
+// Every run still to do must load as `ckpd run` would load it (keys, values and their bounds,
+// bodies, conditions, contact, output), without running: a `set:` key the case does not know
+// or a value out of bounds then stops the sweep (and --dry-run) with the run and the key named,
+// instead of failing every run.
+void check_runs_load(const Sweep& sweep, const std::vector<std::size_t>& mine,
+                     const std::vector<std::size_t>& todo) {
+  for (std::size_t k : todo) {
+    const Run& run = sweep.runs[mine[k]];
+    try {
+      load_scene(sweep.base, run.overrides);
+    } catch (const CaseError& e) {
+      throw SweepError(sweep.file + ": run " + std::to_string(run.index) + " (" + run.description +
+                       ") does not load: " + e.what());
+    }
+  }
+}
+
 struct Child {
   std::size_t slot;  // position in the shard's list
   Clock::time_point start;
@@ -163,7 +181,6 @@ int run_sweep(const Sweep& sweep, const RunnerOptions& opt) {
   std::vector<RunRecord> records(mine.size());
   std::vector<std::size_t> todo;
   std::map<std::string, bool> warned;
-  if (!opt.dry_run) fs::create_directories(out);
   for (std::size_t k = 0; k < mine.size(); ++k) {
     const Run& run = sweep.runs[mine[k]];
     if (fs::is_directory(out) && finished_earlier(out, run)) {
@@ -175,6 +192,11 @@ int run_sweep(const Sweep& sweep, const RunnerOptions& opt) {
       todo.push_back(k);
     }
   }
+
+  if (!todo.empty() && !opt.quiet)
+    std::cout << "sweep: checking that the " << todo.size() << " runs to do load" << std::endl;
+  check_runs_load(sweep, mine, todo);
+  if (!opt.dry_run) fs::create_directories(out);
 
   const int hw = hardware_threads();
   int jobs = opt.jobs, threads = opt.threads;

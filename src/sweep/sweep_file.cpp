@@ -82,9 +82,9 @@ std::string missing_part(const YAML::Node& root, const std::string& key) {
       next.reset(node[part]);
       found = true;
     } else if (node.IsSequence()) {
-      const bool numeric = part.find_first_not_of("0123456789") == std::string::npos;
+      const std::optional<std::size_t> index = parse_index(part);
       for (std::size_t e = 0; e < node.size() && !found; ++e) {
-        if ((numeric && std::stoul(part) == e) ||
+        if ((index && *index == e) ||
             (node[e].IsMap() && node[e]["name"] && node[e]["name"].Scalar() == part)) {
           next.reset(node[e]);
           found = true;
@@ -361,6 +361,20 @@ Sweep load_sweep(const std::string& file) {
     sweep.parameters.push_back(s.parameter);
   }
   if (specs.empty()) fail_at(params, "at least one parameter");
+  // A key set twice would silently take the last value: by two parameters, or by `set:` and a
+  // parameter.
+  {
+    std::map<std::string, std::string> set_by;  // key -> who sets it
+    for (const std::string& f : sweep.fixed) set_by[f.substr(0, f.find('='))] = "set:";
+    for (const Spec& s : specs) {
+      if (s.parameter.key.empty()) continue;
+      const auto [it, fresh] =
+          set_by.emplace(s.parameter.key, "parameter '" + s.parameter.name + "'");
+      if (!fresh)
+        throw SweepError(s.where + ".key: '" + s.parameter.key + "' is set by " + it->second +
+                         " already (one value per key and run)");
+    }
+  }
   std::map<std::string, std::size_t> index_of;
   for (std::size_t i = 0; i < specs.size(); ++i) index_of[specs[i].parameter.name] = i;
 

@@ -143,7 +143,11 @@ std::size_t merge_sweep_tables(const std::vector<std::string>& dirs, const std::
         throw SweepError(dir + "/sweep.csv: row " + std::to_string(r) + " has " +
                          std::to_string(row.size()) + " fields, the header " +
                          std::to_string(header.size()));
-      const std::size_t index = std::stoul(row[0]);
+      const std::optional<std::size_t> parsed = parse_index(row[0]);
+      if (!parsed)
+        throw SweepError(dir + "/sweep.csv: row " + std::to_string(r) +
+                         ": the index is not a run number: '" + row[0] + "'");
+      const std::size_t index = *parsed;
       if (index >= total)
         throw SweepError(dir + "/sweep.csv: run " + row[0] + " is beyond the sweep's " +
                          std::to_string(total) + " runs");
