@@ -52,8 +52,11 @@ std::size_t parallel_points() {
 double half_work_increment(const Body& b, double dt) {
   // Per-thread partial sums over a static schedule, added in thread order: the total does not
   // depend on which thread finished first (an OpenMP reduction's combining order may).
-  // The buffer outlives the call: no allocation in a step once it holds the threads.
-  static thread_local std::vector<double> partial;
+  // The buffer outlives the call: no allocation in a step once it holds the threads. The
+  // threads of the region below write into the calling thread's buffer (the reference), not
+  // into thread_locals of their own.
+  static thread_local std::vector<double> partial_buffer;
+  std::vector<double>& partial = partial_buffer;
   partial.assign(static_cast<std::size_t>(omp_get_max_threads()), 0.0);
   const std::size_t n = b.size();
 #pragma omp parallel if (n > parallel_points())
