@@ -48,6 +48,12 @@ bool record_pair(fcl::CollisionObjectd* a, fcl::CollisionObjectd* b, void* data)
 }  // namespace
 
 PairList BroadPhase::overlapping_pairs(const std::vector<Box3>& boxes) {
+  PairList pairs;
+  overlapping_pairs(boxes, pairs);
+  return pairs;
+}
+
+void BroadPhase::overlapping_pairs(const std::vector<Box3>& boxes, PairList& pairs) {
   Tree& t = *tree_;
   for (std::size_t k = 0; k < t.objects.size(); ++k) {
     const Box3& box = boxes[t.body[k]];
@@ -65,10 +71,9 @@ PairList BroadPhase::overlapping_pairs(const std::vector<Box3>& boxes) {
   } else {
     t.manager.update();
   }
-  PairList pairs;
+  pairs.clear();
   t.manager.collide(&pairs, record_pair);
   std::sort(pairs.begin(), pairs.end());
-  return pairs;
 }
 
 }  // namespace ckpd

@@ -26,6 +26,10 @@ class BroadPhase {
   // (a < b) whose boxes overlap (touching counts), sorted.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> overlapping_pairs(
       const std::vector<Box3>& boxes);
+  // The same into `pairs` (cleared first; its buffer is reused: no allocation in a time step
+  // once it has held the most pairs).
+  void overlapping_pairs(const std::vector<Box3>& boxes,
+                         std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs);
 
  private:
   struct Tree;

@@ -75,6 +75,7 @@ ContactManager::ContactManager(std::vector<ContactBody> bodies, ContactSettings 
       p.law = *self;
       p.self = true;
       p.members[0].resize(bodies_[a].points.size());
+      p.grid[0].reserve(bodies_[a].points.size());
       for (std::size_t i = 0; i < p.members[0].size(); ++i)
         p.members[0][i] = static_cast<std::uint32_t>(i);
       self_pairs_.push_back(std::move(p));
@@ -83,6 +84,8 @@ ContactManager::ContactManager(std::vector<ContactBody> bodies, ContactSettings 
       if (bodies_[b].wall) continue;
       const auto law = settings_.law(bodies_, a, b);
       if (!law) continue;
+      if (pair_law_.empty()) pair_law_.resize(n * n);
+      pair_law_[a * n + b] = law;
       member[a] = member[b] = 1;
       for (std::size_t c : {a, b}) {
         margin_[c] = std::max(margin_[c], 0.5 * (law->radius + law->skin));
@@ -172,7 +175,10 @@ bool ContactManager::drifted_beyond_skin() const {
 }
 
 void ContactManager::rebuild() {
-  std::vector<Box3> tight(bodies_.size()), inflated(bodies_.size());
+  std::vector<Box3>& tight = tight_;
+  std::vector<Box3>& inflated = inflated_;
+  tight.resize(bodies_.size());
+  inflated.resize(bodies_.size());
 #pragma omp parallel for schedule(dynamic) if (member_points_ > parallel_thresholds().contact_scan)
   for (std::size_t m = 0; m < members_.size(); ++m) {
     const std::size_t b = members_[m];
@@ -181,18 +187,33 @@ void ContactManager::rebuild() {
     built_displacement_[b].assign(bodies_[b].points.displacement.begin(),
                                   bodies_[b].points.displacement.end());
   }
-  pairs_.clear();
-  for (const auto& [a, b] : broad_->overlapping_pairs(inflated)) {
-    const auto law = settings_.law(bodies_, a, b);
+  // The laws were found at setup (ContactSettings::law builds names and DEM laws afresh); the
+  // pairs reuse the buffers of the last rebuild's.
+  broad_->overlapping_pairs(inflated, broad_pairs_);
+  const std::size_t n = bodies_.size();
+  std::size_t count = 0;
+  for (const auto& [a, b] : broad_pairs_) {
+    const std::optional<PairLaw>& law = pair_law_[a * n + b];
     if (!law) continue;
-    Pair p;
+    if (count == pairs_.size()) pairs_.emplace_back();
+    Pair& p = pairs_[count++];
+    // A side holds at most its body's points: room for them all, once per body pair that this
+    // slot of the pool has held, so that a growing contact zone allocates nothing in a step.
+    for (int s = 0; s < 2; ++s) {
+      const std::size_t size = bodies_[s == 0 ? a : b].points.size();
+      if (p.members[s].capacity() < size) {
+        p.members[s].reserve(size);
+        p.grid[s].reserve(size);
+      }
+    }
     p.body[0] = a;
     p.body[1] = b;
     p.law = *law;
-    pairs_.push_back(std::move(p));
+    p.members[0].clear();
+    p.members[1].clear();
   }
 #pragma omp parallel for schedule(dynamic)
-  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+  for (std::size_t k = 0; k < count; ++k) {
     Pair& p = pairs_[k];
     const double reach = p.law.radius + drift_limit_[p.body[0]] + drift_limit_[p.body[1]];
     for (int s = 0; s < 2; ++s) {
@@ -202,8 +223,15 @@ void ContactManager::rebuild() {
         if (inside(zone, body.position(i))) p.members[s].push_back(static_cast<std::uint32_t>(i));
     }
   }
-  // Overlapping boxes whose points are nowhere near each other cost nothing further.
-  std::erase_if(pairs_, [](const Pair& p) { return p.members[0].empty() || p.members[1].empty(); });
+  // Overlapping boxes whose points are nowhere near each other cost nothing further: the pairs
+  // kept move to the front, in order (swapped, so that every buffer stays for the next rebuild).
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < count; ++k) {
+    if (pairs_[k].members[0].empty() || pairs_[k].members[1].empty()) continue;
+    if (k != kept) std::swap(pairs_[kept], pairs_[k]);
+    ++kept;
+  }
+  pair_count_ = kept;
   ++stats_.rebuilds;
   index_targets();
 }
@@ -211,9 +239,24 @@ void ContactManager::rebuild() {
 void ContactManager::index_targets() {
   all_pairs_.clear();
   for (Pair& p : self_pairs_) all_pairs_.push_back(&p);
-  for (Pair& p : pairs_) all_pairs_.push_back(&p);
+  for (std::size_t k = 0; k < pair_count_; ++k) all_pairs_.push_back(&pairs_[k]);
   // (body, point, ref) for every point on every side of every pair, grouped by point.
-  std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>> entries;
+  auto& entries = target_entries_;
+  entries.clear();
+  // Room for every point of every side of these pairs, the most the lists can hold until the
+  // pairs change: a growing contact zone allocates nothing in a step.
+  std::size_t most = 0;
+  for (const Pair* p : all_pairs_)
+    most += bodies_[p->body[0]].points.size() + (p->self ? 0 : bodies_[p->body[1]].points.size());
+  if (entries.capacity() < most) {
+    entries.reserve(most);
+    targets_.reserve(most);
+    target_refs_.reserve(most);
+    target_energy_.reserve(most);
+    if (dem_) target_dem_.reserve(most);
+    target_contacts_.reserve(most);
+    target_tests_.reserve(most);
+  }
   for (std::size_t k = 0; k < all_pairs_.size(); ++k) {
     const Pair& p = *all_pairs_[k];
     for (int s = 0; s < (p.self ? 1 : 2); ++s)
@@ -279,7 +322,10 @@ void ContactManager::add_forces(double dt) {
         return body != o.body ? body < o.body : point < o.point;
       }
     };
-    std::vector<Contribution> found;
+    // Each thread's list outlives the call (OpenMP keeps its threads): no allocation in a step
+    // once it has held a point's most contacts.
+    static thread_local std::vector<Contribution> found;
+    if (found.capacity() < 256) found.reserve(256);
 #pragma omp for schedule(dynamic, 64)
     for (std::size_t t = 0; t < targets_.size(); ++t) {
       const Target& target = targets_[t];

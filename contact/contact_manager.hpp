@@ -22,6 +22,8 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "contact/broad_phase.hpp"
@@ -100,7 +102,15 @@ class ContactManager {
   std::unique_ptr<MeshWallContact> walls_;             // pairs with a mesh wall; null without any
   std::vector<std::vector<Vec3>> built_displacement_;  // per member body, at the last build
   std::vector<Pair> self_pairs_;
+  // The pairs of bodies found by the last rebuild: the first pair_count_ of pairs_ (the rest are
+  // kept with their buffers for the next rebuild: no allocation in a time step).
   std::vector<Pair> pairs_;
+  std::size_t pair_count_ = 0;
+  std::vector<std::optional<PairLaw>> pair_law_;  // per body pair a * n + b (a <= b), at setup
+  // rebuild's and index_targets' buffers, kept between calls.
+  std::vector<Box3> tight_, inflated_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> broad_pairs_;
+  std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>> target_entries_;
   std::vector<Target> targets_;
   std::vector<std::uint32_t> target_refs_;  // per target: pair * 2 + side, into all_pairs_
   std::vector<Pair*> all_pairs_;

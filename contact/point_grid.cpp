@@ -4,6 +4,16 @@
 
 namespace ckpd {
 
+void PointGrid::reserve(std::size_t points) {
+  point_.reserve(points);
+  position_.reserve(points);
+  volume_.reserve(points);
+  cell_of_.reserve(points);
+  // build's cap on the cells: 2 n + 64, and cell_start_ holds one more.
+  cell_start_.reserve(2 * points + 65);
+  next_slot_.reserve(2 * points + 65);
+}
+
 void PointGrid::build(const PointSet& body, const std::vector<std::uint32_t>& members,
                       double radius) {
   const std::size_t n = members.size();

@@ -16,6 +16,9 @@ class PointGrid {
  public:
   // Bins the points `members` of `points`; `radius` is the largest query radius.
   void build(const PointSet& points, const std::vector<std::uint32_t>& members, double radius);
+  // Room for builds of up to `points` members (and the cells build allows them, 2 points + 64):
+  // a build within it allocates nothing.
+  void reserve(std::size_t points);
 
   std::size_t size() const { return point_.size(); }
 

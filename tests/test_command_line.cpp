@@ -69,6 +69,7 @@ TEST_CASE("the help and the version exit 0; the version names the version and th
   CHECK(r.output.rfind("ckpd 0.", 0) == 0);
   CHECK(r.output.find("flags") != std::string::npos);
   CHECK(r.output.find("commit") != std::string::npos);
+  CHECK(r.output.find("instruction set CKPD_ARCH=") != std::string::npos);
 }
 
 TEST_CASE("an error in a --set value names the override, not a line of the case", "[cli][usage]") {

@@ -65,6 +65,8 @@ TEST_CASE("a run writes run.log and records its provenance in summary.json", "[c
   CHECK(p["build"]["version"].get<std::string>().rfind("0.", 0) == 0);
   CHECK(!p["build"]["flags"].get<std::string>().empty());
   CHECK(!p["build"]["build_type"].get<std::string>().empty());
+  CHECK(!p["build"]["arch"].get<std::string>().empty());
+  CHECK(p["build"]["isa_extensions"].is_array());
 }
 
 TEST_CASE("the progress line fits the width it is given and labels its figures", "[cli][log]") {

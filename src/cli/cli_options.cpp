@@ -1,6 +1,7 @@
 #include "src/cli/cli_options.hpp"
 
 #include "ckpd_build_info.hpp"
+#include "src/cli/isa.hpp"
 
 namespace ckpd {
 
@@ -24,17 +25,27 @@ CLI::Option* add_threads_option(CLI::App& cmd, int& threads, const std::string& 
   return cmd.add_option(name, threads, help)->check(range);
 }
 
+std::string instruction_set_text() {
+  std::string extensions;
+  for (const std::string& name : isa::compiled_extensions())
+    extensions += (extensions.empty() ? "" : " ") + name;
+  if (extensions.empty()) extensions = "baseline only";
+  return std::string("CKPD_ARCH=") + build::kArch + " (" + build::kMarch +
+         "), extensions: " + extensions + ", fp-contract " + build::kFpContract;
+}
+
 std::string version_line() {
   return std::string("ckpd ") + build::kVersion + " (commit " + build::kGitCommit + ", " +
-         build::kBuildType + ", " + build::kCompiler + ", flags " + build::kFlags + ")";
+         build::kBuildType + ", " + build::kCompiler + ", flags " + build::kFlags +
+         "), instruction set " + instruction_set_text();
 }
 
 nlohmann::ordered_json build_json() {
-  return {{"version", build::kVersion},
-          {"commit", build::kGitCommit},
-          {"build_type", build::kBuildType},
-          {"compiler", build::kCompiler},
-          {"flags", build::kFlags}};
+  return {{"version", build::kVersion},       {"commit", build::kGitCommit},
+          {"build_type", build::kBuildType},  {"compiler", build::kCompiler},
+          {"flags", build::kFlags},           {"arch", build::kArch},
+          {"march", build::kMarch},           {"isa_extensions", isa::compiled_extensions()},
+          {"fp_contract", build::kFpContract}};
 }
 
 namespace {

@@ -14,9 +14,14 @@ inline constexpr int kMaxThreads = 4096;
 CLI::Option* add_threads_option(CLI::App& cmd, int& threads, const std::string& name = "--threads",
                                 const std::string& help = "OpenMP threads (default: all cores)");
 
-// "ckpd VERSION (commit C, BUILD_TYPE, COMPILER, flags F)".
+// "CKPD_ARCH=A (M), extensions: E..., fp-contract C": the instruction set the binary was built
+// for (the CKPD_ARCH option, what -march resolved to, the extensions the compiler was told to use).
+std::string instruction_set_text();
+// "ckpd VERSION (commit C, BUILD_TYPE, COMPILER, flags F), instruction set " and
+// instruction_set_text(); one line (the run log's header starts it with the time).
 std::string version_line();
-// {"version", "commit", "build_type", "compiler", "flags"} for summary.json.
+// {"version", "commit", "build_type", "compiler", "flags", "arch", "march", "isa_extensions",
+// "fp_contract"} for summary.json.
 nlohmann::ordered_json build_json();
 
 // The program's command line, as main() received it (words joined by spaces, each quoted when

@@ -73,8 +73,13 @@ std::vector<ContactBody> contact_bodies(const Scene& scene) {
 
 std::vector<PointSet> contact_point_sets(Scene& scene) {
   std::vector<PointSet> points;
-  for (SceneBody& sb : scene.bodies) points.push_back(point_set(sb));
+  contact_point_sets(scene, points);
   return points;
+}
+
+void contact_point_sets(Scene& scene, std::vector<PointSet>& points) {
+  points.clear();
+  for (SceneBody& sb : scene.bodies) points.push_back(point_set(sb));
 }
 
 std::vector<ContactLawNote> contact_law_notes(const Scene& scene) {

@@ -22,8 +22,10 @@ PointSet point_set(const SceneBody& body);
 std::vector<ContactBody> contact_bodies(Scene& scene);
 // Read-only views (no force_density): enough for ContactSettings::law and the stiffness bounds.
 std::vector<ContactBody> contact_bodies(const Scene& scene);
-// The points alone, for ContactManager::rebind.
+// The points alone, for ContactManager::rebind; the second form refills `points` (no
+// allocation in a time step once it holds every body).
 std::vector<PointSet> contact_point_sets(Scene& scene);
+void contact_point_sets(Scene& scene, std::vector<PointSet>& points);
 
 // Null when the scene has no contact work to do: one body without self-contact, or no pair of
 // bodies with a contact law.

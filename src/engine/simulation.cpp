@@ -53,7 +53,12 @@ std::size_t parallel_points() {
 double half_work_increment(const Body& b, double dt) {
   // Per-thread partial sums over a static schedule, added in thread order: the total does not
   // depend on which thread finished first (an OpenMP reduction's combining order may).
-  std::vector<double> partial(static_cast<std::size_t>(omp_get_max_threads()), 0.0);
+  // The buffer outlives the call: no allocation in a step once it holds the threads. The
+  // threads of the region below write into the calling thread's buffer (the reference), not
+  // into thread_locals of their own.
+  static thread_local std::vector<double> partial_buffer;
+  std::vector<double>& partial = partial_buffer;
+  partial.assign(static_cast<std::size_t>(omp_get_max_threads()), 0.0);
   const std::size_t n = b.size();
 #pragma omp parallel if (n > parallel_points())
   {
@@ -241,7 +246,10 @@ void Simulation::evaluate_forces(bool with_energy) {
   strain_energy_ = with_energy ? 0.0 : strain_energy_;
   const auto start = std::chrono::steady_clock::now();
   const std::size_t bodies = scene_.bodies.size();
-  std::vector<double> dissipated(bodies, 0.0), strain(bodies, 0.0);
+  std::vector<double>& dissipated = step_dissipated_;
+  std::vector<double>& strain = step_strain_;
+  dissipated.assign(bodies, 0.0);
+  strain.assign(bodies, 0.0);
   auto own_forces = [&](std::size_t index) {
     SceneBody& sb = scene_.bodies[index];
     Body& b = sb.body;
@@ -268,7 +276,10 @@ void Simulation::evaluate_forces(bool with_energy) {
   // run on that thread alone); large ones one after another, each with every thread. Rigid
   // bodies only copy their loads and do not count: one small deformable body beside a rigid
   // indenter gets every thread for its kernel (bench/lammps_compare.sh: it ran on one).
-  std::vector<std::size_t> small, large;
+  std::vector<std::size_t>& small = small_bodies_;
+  std::vector<std::size_t>& large = large_bodies_;
+  small.clear();
+  large.clear();
   for (std::size_t k = 0; k < bodies; ++k) {
     if (scene_.bodies[k].rigid)
       own_forces(k);
@@ -293,7 +304,8 @@ void Simulation::evaluate_forces(bool with_energy) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // Contact couples the bodies: it runs once all of them are at the new positions.
   if (contact_) {
-    contact_->rebind(contact_point_sets(scene_));
+    contact_point_sets(scene_, point_sets_);
+    contact_->rebind(point_sets_);
     // The springs advance over the step just taken; the first evaluation follows none.
     contact_->add_forces(step_ > 0 ? step_choice_.dt : 0.0);
   }

@@ -175,6 +175,11 @@ class Simulation {
   std::vector<double> contact_radius_;
   std::unique_ptr<ContactManager> contact_;
   double body_force_seconds_ = 0;
+  // evaluate_forces' per-body buffers, kept between steps: a time step allocates nothing
+  // (tests/allocation/).
+  std::vector<double> step_dissipated_, step_strain_;
+  std::vector<std::size_t> small_bodies_, large_bodies_;
+  std::vector<PointSet> point_sets_;
 };
 
 }  // namespace ckpd
