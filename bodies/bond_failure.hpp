@@ -1,6 +1,8 @@
 #pragma once
 // The damage step of a force model (damage.hpp has the contract): which bonds fail now, by the
 // model's rule (Model::bond_fails), and the strain energy their failure takes out of the body.
+#include <omp.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <utility>
@@ -59,6 +61,25 @@ FailureUpdate fail_bonds_only(const Model& model, Body& body, double half_drift)
   for (std::size_t i = 0; i < n; ++i) result.dissipated += lost[i];
   return result;
 }
+
+// The buffers of fail_overstretched_bonds_of, kept between calls by the calling thread so that a
+// time step allocates nothing once they have grown (tests/allocation). The parallel regions
+// below reach them through references bound outside the regions: every worker then writes the
+// calling thread's buffers, not a thread_local of its own.
+struct FailureWorkspace {
+  std::vector<std::uint8_t> touched, ends;
+  std::vector<std::uint32_t> points;
+  std::vector<double> before, after;
+  std::vector<Vec3> end_of_step;
+  // One family scratch per worker, by omp_get_thread_num(). Not thread_local in the workers:
+  // libgomp ends pooled threads when a region runs with fewer (an if clause elsewhere), and
+  // the new threads would start with empty scratch.
+  std::vector<FamilyScratch> scratch;
+};
+inline FailureWorkspace& failure_workspace() {
+  thread_local FailureWorkspace w;
+  return w;
+}
 }  // namespace bond_failure_detail
 
 template <class Model>
@@ -89,7 +110,9 @@ FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double
   // Points with a bond about to fail (found with the same test update_bond_failure applies).
   const std::size_t n = body.size();
   const bool protect = !body.no_failure.empty();
-  std::vector<std::uint8_t> touched(n, 0);
+  bond_failure_detail::FailureWorkspace& w = bond_failure_detail::failure_workspace();
+  std::vector<std::uint8_t>& touched = w.touched;
+  touched.assign(n, 0);
   bool any = false;
 #pragma omp parallel for schedule(static) reduction(|| : any)
   for (std::size_t i = 0; i < n; ++i) {
@@ -106,7 +129,8 @@ FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double
     // A failing bond j-k also switches off, for every common neighbour i, the sets of i's own
     // family that hold the edge j-k: their energy leaves i's sum too. Every such i is bonded to
     // j (the set's edges are bonds), so the ends' neighbours are all the points that change.
-    std::vector<std::uint8_t> ends = touched;
+    std::vector<std::uint8_t>& ends = w.ends;
+    ends = touched;
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
       if (ends[i]) continue;
@@ -118,21 +142,37 @@ FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double
       }
     }
   }
-  std::vector<std::uint32_t> points;
-  for (std::size_t i = 0; i < n; ++i)
+  std::vector<std::uint32_t>& points = w.points;
+  points.clear();
+  // Room for every point at once: a step that touches more points than any before allocates
+  // nothing either.
+  points.reserve(n);
+  w.before.reserve(n);
+  w.after.reserve(n);
+  std::size_t largest_family = 0;  // every worker's scratch sized once for any point
+  for (std::size_t i = 0; i < n; ++i) {
+    largest_family = std::max(largest_family, body.family.offset[i + 1] - body.family.offset[i]);
     if (touched[i]) points.push_back(static_cast<std::uint32_t>(i));
-  std::vector<double> before(points.size()), after(points.size());
+  }
+  std::vector<double>& before = w.before;
+  std::vector<double>& after = w.after;
+  before.assign(points.size(), 0.0);
+  after.assign(points.size(), 0.0);
   // Book at the step's midpoint (see damage.hpp): the energies are read at u - half_drift v, and
   // the end-of-step displacement is put back bit for bit afterwards.
-  std::vector<Vec3> end_of_step;
+  std::vector<Vec3>& end_of_step = w.end_of_step;
   if (half_drift != 0) {
     end_of_step = body.displacement;
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i) body.displacement[i] -= half_drift * body.velocity[i];
   }
+  const std::size_t workers = static_cast<std::size_t>(omp_get_max_threads());
+  if (w.scratch.size() < workers) w.scratch.resize(workers);
+  std::vector<FamilyScratch>& scratches = w.scratch;
 #pragma omp parallel
   {
-    FamilyScratch scratch;
+    FamilyScratch& scratch = scratches[static_cast<std::size_t>(omp_get_thread_num())];
+    scratch.reserve(largest_family);
 #pragma omp for schedule(dynamic, 4)
     for (std::size_t p = 0; p < points.size(); ++p)
       before[p] = evaluate_point_of(model, body, points[p], scratch).strain_energy_density();

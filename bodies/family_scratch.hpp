@@ -54,6 +54,8 @@ class FamilyScratch {
   }
 
   std::size_t size() const { return size_; }
+  // Makes room for families of up to n members now, so that later loads allocate nothing.
+  void reserve(std::size_t n) { grow(n); }
 
   // f(a, b) for every unordered adjacent pair a < b.
   template <class PairFn>

@@ -45,6 +45,27 @@ double max_abs(const Eigen::Matrix3d& m) {
   return m.cwiseAbs().maxCoeff();
 }
 
+// dW/dF F^T of a point's energy density W(F) under x = F X, by central differences in each
+// in-plane component of F: the Kirchhoff stress of a homogeneous deformation.
+template <class Energy>
+Eigen::Matrix3d kirchhoff_by_differences(Body& body, const Eigen::Matrix3d& F, Energy energy) {
+  Eigen::Matrix3d dWdF = Eigen::Matrix3d::Zero();
+  const double h = 1e-6;
+  for (int r = 0; r < body.dimension; ++r)
+    for (int c = 0; c < body.dimension; ++c) {
+      Eigen::Matrix3d Fp = F, Fm = F;
+      Fp(r, c) += h;
+      Fm(r, c) -= h;
+      deform(body, Fp);
+      const double wp = energy();
+      deform(body, Fm);
+      const double wm = energy();
+      dWdF(r, c) = (wp - wm) / (2 * h);
+    }
+  deform(body, F);
+  return dWdF * F.transpose();
+}
+
 }  // namespace
 
 TEST_CASE("interior point stress is the continuum stress times the patch-test ratio", "[stress]") {
@@ -109,20 +130,8 @@ TEST_CASE("point stress is dW/dF F^T under a finite homogeneous deformation", "[
       deform(body, F);
       FamilyScratch s;
       const Eigen::Matrix3d tau = point_kirchhoff_stress(body, i, s);
-      Eigen::Matrix3d dWdF = Eigen::Matrix3d::Zero();
-      const double h = 1e-6;
-      for (int r = 0; r < dim; ++r)
-        for (int c = 0; c < dim; ++c) {
-          Eigen::Matrix3d Fp = F, Fm = F;
-          Fp(r, c) += h;
-          Fm(r, c) -= h;
-          deform(body, Fp);
-          const double wp = point_energy(body, i);
-          deform(body, Fm);
-          const double wm = point_energy(body, i);
-          dWdF(r, c) = (wp - wm) / (2 * h);
-        }
-      const Eigen::Matrix3d expected = dWdF * F.transpose();
+      const Eigen::Matrix3d expected =
+          kirchhoff_by_differences(body, F, [&] { return point_energy(body, i); });
       CHECK(max_abs(tau - expected) < 1e-6 * max_abs(expected));
       CHECK(max_abs(tau - tau.transpose()) < 1e-9 * max_abs(tau));
     }
@@ -233,11 +242,10 @@ TEST_CASE("a state-based point's stress is dpsi/dF F^T under a finite homogeneou
       Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
       for (int r = 0; r < dim; ++r)
         for (int c = 0; c < dim; ++c) F(r, c) += u(rng);
-      auto psi_at = [&](const Eigen::Matrix3d& G, std::size_t i) {
-        deform(body, G);
-        std::vector<double> psi;
-        state_based_energy_density(body, psi);
-        return psi[i];
+      auto psi = [&](std::size_t i) {
+        std::vector<double> w;
+        state_based_energy_density(body, w);
+        return w[i];
       };
       // A corner, an edge point and the centre.
       for (std::size_t i : {std::size_t{0}, std::size_t{3}, body.size() / 2}) {
@@ -245,16 +253,7 @@ TEST_CASE("a state-based point's stress is dpsi/dF F^T under a finite homogeneou
         deform(body, F);
         FamilyScratch s;
         const Eigen::Matrix3d tau = point_kirchhoff_stress(body, i, s);
-        Eigen::Matrix3d dWdF = Eigen::Matrix3d::Zero();
-        const double h = 1e-6;
-        for (int r = 0; r < dim; ++r)
-          for (int c = 0; c < dim; ++c) {
-            Eigen::Matrix3d Fp = F, Fm = F;
-            Fp(r, c) += h;
-            Fm(r, c) -= h;
-            dWdF(r, c) = (psi_at(Fp, i) - psi_at(Fm, i)) / (2 * h);
-          }
-        const Eigen::Matrix3d expected = dWdF * F.transpose();
+        const Eigen::Matrix3d expected = kirchhoff_by_differences(body, F, [&] { return psi(i); });
         CHECK(max_abs(tau - expected) < 1e-6 * max_abs(expected));
         CHECK(max_abs(tau - tau.transpose()) < 1e-9 * max_abs(tau));
       }

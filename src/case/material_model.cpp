@@ -1,6 +1,20 @@
 #include "src/case/material_model.hpp"
 
+#include <cmath>
+
 namespace ckpd {
+
+double strain_measure_of(const CaseNode& m, double fallback) {
+  auto sm = m.optional("strain_measure");
+  if (!sm) return fallback;
+  if (!sm->is_map()) sm->fail("a map {m: M} (the Seth-Hill exponent, e.g. {m: 0})");
+  const CaseNode exponent = sm->required("m");
+  const double value = exponent.as_double();
+  if (!std::isfinite(value))
+    exponent.fail("a finite number (the Seth-Hill exponent m; 0.5 is l/L - 1, 0 is log)");
+  sm->finish();
+  return value;
+}
 
 std::map<std::string, MaterialFactory>& material_registry() {
   static std::map<std::string, MaterialFactory> registry;

@@ -55,6 +55,10 @@ inline void refuse_keys_of(const CaseNode& m, const std::string& mine, const std
               ")");
 }
 
+// The Seth-Hill exponent of `strain_measure: {m: M}` if the material has the key, else
+// `fallback` (1/2: l/L - 1). Shared by the models that take a strain measure.
+double strain_measure_of(const CaseNode& m, double fallback = 0.5);
+
 // Reads a material's own keys (not `model`); the caller rejects any key left unread.
 using MaterialFactory = std::function<std::unique_ptr<MaterialModel>(const CaseNode&)>;
 std::map<std::string, MaterialFactory>& material_registry();

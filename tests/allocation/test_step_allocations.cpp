@@ -195,13 +195,10 @@ TEST_CASE("a time step of a 3D body in contact allocates nothing after warm-up",
   CHECK(c.with_energy == 0);
 }
 
-// A damaged body (pre-cracked, bonds breaking): bodies/bond_failure.hpp's
-// fail_overstretched_bonds_of allocates its per-point flags every step of a body with damage on,
-// and its point lists, energies, scratch and displacement copy every step that a bond breaks.
-// That file is being rewritten for issue 19, outside this test's reach: expected to fail until
-// then (!mayfail: reported, not failing the suite). Remove the tag once it passes.
+// A damaged body (pre-cracked, bonds breaking): bodies/bond_failure.hpp's failure pass and its
+// booking keep their flags, point lists, energies, scratch and displacement copy between steps.
 TEST_CASE("a time step of a damaged 3D body in contact, bonds breaking, allocates nothing",
-          "[allocation][!mayfail]") {
+          "[allocation]") {
   const Count c = count_allocations(true);
   INFO("broken bonds " << c.broken_before << " -> " << c.broken_after << ", contact energy "
                        << c.contact_energy);

@@ -29,14 +29,7 @@ class CkpdMaterial : public MaterialModel {
     refuse_keys_of(m, "ckpd", "state_based", {"lambda_bar", "mu_bar"});
     if (fracture_energy_ && critical_stretch_)
       m.fail("either fracture_energy or critical_stretch, not both");
-    if (auto sm = m.optional("strain_measure")) {
-      if (!sm->is_map()) sm->fail("a map {m: M} (the Seth-Hill exponent, e.g. {m: 0})");
-      const CaseNode exponent = sm->required("m");
-      strain_measure_ = exponent.as_double();
-      if (!std::isfinite(strain_measure_))
-        exponent.fail("a finite number (the Seth-Hill exponent m; 0.5 is l/L - 1, 0 is log)");
-      sm->finish();
-    }
+    strain_measure_ = strain_measure_of(m);
   }
 
   std::optional<ElasticConstants> elastic() const override {

@@ -42,14 +42,7 @@ class StateBasedMaterial : public MaterialModel {
       lambda_node_ = lambda;
     }
     if (auto g = m.optional("fracture_energy")) fracture_energy_ = g->as_positive();
-    if (auto sm = m.optional("strain_measure")) {
-      if (!sm->is_map()) sm->fail("a map {m: M} (the Seth-Hill exponent, e.g. {m: 0})");
-      const CaseNode exponent = sm->required("m");
-      strain_measure_ = exponent.as_double();
-      if (!std::isfinite(strain_measure_))
-        exponent.fail("a finite number (the Seth-Hill exponent m; 0.5 is l/L - 1, 0 is log)");
-      sm->finish();
-    }
+    strain_measure_ = strain_measure_of(m);
   }
 
   // E and nu for contact laws (hertz_mindlin) when the material gives them; lambda_bar and
