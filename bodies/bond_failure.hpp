@@ -67,9 +67,9 @@ FailureUpdate fail_bonds_only(const Model& model, Body& body, double half_drift)
 // below reach them through references bound outside the regions: every worker then writes the
 // calling thread's buffers, not a thread_local of its own.
 struct FailureWorkspace {
-  std::vector<std::uint8_t> touched, ends;
+  std::vector<std::uint8_t> failing, touched, ends;
   std::vector<std::uint32_t> points;
-  std::vector<double> before, after;
+  std::vector<double> lost;
   std::vector<Vec3> end_of_step;
   // One family scratch per worker, by omp_get_thread_num(). Not thread_local in the workers:
   // libgomp ends pooled threads when a region runs with fewer (an if clause elsewhere), and
@@ -107,24 +107,27 @@ FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double
   const bool sets = (Model::kTriangles && model.has_triangles()) ||
                     (Model::kTetrahedra && model.has_tetrahedra());
   if (!sets) return bond_failure_detail::fail_bonds_only(model, body, half_drift);
-  // Points with a bond about to fail (found with the same test update_bond_failure applies).
+  // The bonds about to fail, decided at the end-of-step displacement (update_bond_failure's
+  // test), and the points that hold one.
   const std::size_t n = body.size();
   const bool protect = !body.no_failure.empty();
   bond_failure_detail::FailureWorkspace& w = bond_failure_detail::failure_workspace();
+  std::vector<std::uint8_t>& failing = w.failing;
   std::vector<std::uint8_t>& touched = w.touched;
+  failing.assign(body.family.neighbour.size(), 0);
   touched.assign(n, 0);
-  bool any = false;
-#pragma omp parallel for schedule(static) reduction(|| : any)
+  std::size_t failed = 0;
+#pragma omp parallel for schedule(static) reduction(+ : failed)
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
       if (bond_failure_detail::breaks_now(model, body, protect, i, k)) {
+        failing[k] = 1;
         touched[i] = 1;
-        any = true;
-        break;
+        if (i < body.family.neighbour[k]) ++failed;
       }
     }
   }
-  if (!any) return result;
+  if (failed == 0) return result;
   if (body.damage_rule == DamageRule::all_edges) {
     // A failing bond j-k also switches off, for every common neighbour i, the sets of i's own
     // family that hold the edge j-k: their energy leaves i's sum too. Every such i is bonded to
@@ -147,17 +150,14 @@ FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double
   // Room for every point at once: a step that touches more points than any before allocates
   // nothing either.
   points.reserve(n);
-  w.before.reserve(n);
-  w.after.reserve(n);
+  w.lost.reserve(n);
   std::size_t largest_family = 0;  // every worker's scratch sized once for any point
   for (std::size_t i = 0; i < n; ++i) {
     largest_family = std::max(largest_family, body.family.offset[i + 1] - body.family.offset[i]);
     if (touched[i]) points.push_back(static_cast<std::uint32_t>(i));
   }
-  std::vector<double>& before = w.before;
-  std::vector<double>& after = w.after;
-  before.assign(points.size(), 0.0);
-  after.assign(points.size(), 0.0);
+  std::vector<double>& lost = w.lost;
+  lost.assign(points.size(), 0.0);
   // Book at the step's midpoint (see damage.hpp): the energies are read at u - half_drift v, and
   // the end-of-step displacement is put back bit for bit afterwards.
   std::vector<Vec3>& end_of_step = w.end_of_step;
@@ -166,6 +166,8 @@ FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i) body.displacement[i] -= half_drift * body.velocity[i];
   }
+  // Only the sets the failures switch off are evaluated (before the flags change): their
+  // energy is what each point's sum loses.
   const std::size_t workers = static_cast<std::size_t>(omp_get_max_threads());
   if (w.scratch.size() < workers) w.scratch.resize(workers);
   std::vector<FamilyScratch>& scratches = w.scratch;
@@ -175,25 +177,18 @@ FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double
     scratch.reserve(largest_family);
 #pragma omp for schedule(dynamic, 4)
     for (std::size_t p = 0; p < points.size(); ++p)
-      before[p] = evaluate_point_of(model, body, points[p], scratch).strain_energy_density();
-#pragma omp single
-    {
-      // Decided at the end-of-step displacement, like update_bond_failure alone.
-      if (half_drift != 0) std::swap(body.displacement, end_of_step);
-      result.failed = update_bond_failure_of(model, body);
-      if (half_drift != 0) std::swap(body.displacement, end_of_step);
-    }
-#pragma omp for schedule(dynamic, 4)
-    for (std::size_t p = 0; p < points.size(); ++p)
-      after[p] = evaluate_point_of(model, body, points[p], scratch).strain_energy_density();
+      lost[p] = switched_off_energy_density_of(model, body, points[p], scratch, failing);
   }
   // Copied back, not moved: the displacement keeps its buffer (the Python module's numpy views
   // of it must stay valid across steps).
   if (half_drift != 0) std::copy(end_of_step.begin(), end_of_step.end(), body.displacement.begin());
+#pragma omp parallel for schedule(static)
+  for (std::size_t k = 0; k < failing.size(); ++k)
+    if (failing[k]) body.bond_intact[k] = 0;
   // Summed in point order, so the result does not depend on the thread schedule.
   double dissipated = 0;
-  for (std::size_t p = 0; p < points.size(); ++p)
-    dissipated += body.volume[points[p]] * (before[p] - after[p]);
+  for (std::size_t p = 0; p < points.size(); ++p) dissipated += body.volume[points[p]] * lost[p];
+  result.failed = failed;
   result.dissipated = dissipated;
   return result;
 }

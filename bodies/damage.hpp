@@ -36,8 +36,10 @@ std::size_t update_bond_failure(Body& body);
 // removed, sum over the end points p of failing bonds of V^p (W^p before - W^p after), where W^p
 // is p's own-family energy density W1/2 + W2/3 + W3/4. Under DamageRule::centre_bonds only the
 // two ends of a bond see their sums change (d2 and d3 depend on the centre's bonds alone); under
-// all_edges the sets through the bond leave the sums of all their vertices, and those are
-// evaluated too. Bond-only bodies have no such sets: the rule changes nothing there.
+// all_edges the sets through the bond leave the sums of all their vertices too. Each changed
+// point's loss is the energy of exactly the bonds and sets that switch off (the others are not
+// evaluated: point_kernel.hpp, switched_off_energy_density_of). Bond-only bodies have no such
+// sets: the rule changes nothing there.
 //
 // Which bonds fail is decided at the current displacement u. The lost energy is booked at
 // u - half_drift * velocity: with `half_drift` = dt/2 and `velocity` holding the drift velocity

@@ -7,6 +7,7 @@
 // energy is needed (damage booking, the patch test); the whole-body loop over it is the
 // reference kernel the optimised ones are tested against (reference/internal_force.hpp).
 #include <cstdint>
+#include <vector>
 
 #include "bodies/body.hpp"
 #include "bodies/family_scratch.hpp"
@@ -76,6 +77,47 @@ PointResult evaluate_point_of(const Model& model, const Body& body, std::size_t 
   r.w2 = w2;
   r.w3 = w3;
   return r;
+}
+
+// The part of point i's own-family energy density W1/2 + W2/3 + W3/4 that the failures flagged
+// in `failing` (one flag per stored bond, the intact bonds about to fail) take away: the energy of
+// its failing bonds and of the sets they switch off (its own failing bonds' sets under either
+// rule, and under DamageRule::all_edges also the sets with a failing edge between two members).
+// The terms are evaluate_point_of's, so this equals the drop of its strain_energy_density across
+// the failures, without evaluating the sets that stay on (tests/test_failure_booking.cpp).
+template <class Model>
+double switched_off_energy_density_of(const Model& model, const Body& body, std::size_t i,
+                                      FamilyScratch& s, const std::vector<std::uint8_t>& failing) {
+  const bool pairs = Model::kTriangles && model.has_triangles();
+  const bool triples = Model::kTetrahedra && model.has_tetrahedra();
+  s.load(body, i, true, pairs || triples);
+  s.mark_failing(body, failing, (pairs || triples) && body.damage_rule == DamageRule::all_edges);
+  const double degenerate = body.degenerate_fraction;
+  double w1 = 0, w2 = 0, w3 = 0;
+  for (std::size_t a = 0; a < s.size(); ++a)
+    if (s.slot_failing(a)) w1 += model.bond_term(s.ref[a], s.cur[a]).energy;
+  w1 *= body.dv1[i];
+  if constexpr (Model::kTriangles) {
+    if (pairs) {
+      s.for_each_switching_pair([&](std::size_t a, std::size_t c) {
+        const SetTerm<3> t =
+            model.triangle_term(s.ref[a], s.ref[c], s.cur[a], s.cur[c], degenerate);
+        if (!t.degenerate) w2 += t.energy;
+      });
+      w2 *= model.triangle_force_weight(body.dv2[i]);
+    }
+  }
+  if constexpr (Model::kTetrahedra) {
+    if (triples) {
+      s.for_each_switching_triple([&](std::size_t a, std::size_t c, std::size_t d) {
+        const SetTerm<4> t = model.tetrahedron_term(s.ref[a], s.ref[c], s.ref[d], s.cur[a],
+                                                    s.cur[c], s.cur[d], degenerate);
+        if (!t.degenerate) w3 += t.energy;
+      });
+      w3 *= model.tetrahedron_force_weight(body.dv3[i]);
+    }
+  }
+  return w1 / 2 + w2 / 3 + w3 / 4;
 }
 
 }  // namespace ckpd
