@@ -13,7 +13,9 @@
 #include "src/cli/cli_options.hpp"
 #include "src/cli/setup_interrupt.hpp"
 #include "src/engine/contact_coupling.hpp"
+#include "src/engine/decomposition.hpp"
 #include "src/engine/simulation.hpp"
+#include "src/geometry/work_estimate.hpp"
 #include "src/output/kernel_report.hpp"
 #include "src/output/run_output.hpp"
 
@@ -26,6 +28,7 @@ struct CheckOptions {
   std::vector<std::string> overrides;
   int steps = 3;
   int threads = 0;
+  int ranks = 0;  // 0: no decomposition report
 };
 
 // Bytes the body's own arrays hold: state and reference vectors, per-point constants, the CSR
@@ -64,6 +67,35 @@ void print_mesh(const MeshInfo& m, const Body& b) {
     std::cout << " (" << std::showpos << 100 * (sampled / m.mesh_volume - 1) << std::noshowpos
               << " %)";
   std::cout << ", " << b.size() << " points\n";
+}
+
+// What a run on `ranks` MPI ranks would hold per rank (src/engine/decomposition.hpp).
+void print_decomposition(const Scene& scene, int ranks) {
+  std::vector<const Body*> bodies;
+  std::vector<bool> rigid;
+  for (const SceneBody& sb : scene.bodies) {
+    bodies.push_back(&sb.body);
+    rigid.push_back(sb.rigid.has_value());
+  }
+  const Decomposition d = decompose(bodies, rigid, ranks);
+  double total = 0;
+  std::uint64_t ghosts = 0, bytes = 0;
+  for (const RankShare& r : d.share) {
+    total += r.work;
+    ghosts += r.ghosts;
+    bytes += r.bytes_per_step();
+  }
+  std::cout << "decomposition over " << ranks
+            << " ranks (recursive coordinate bisection by interaction work): imbalance "
+            << d.imbalance() << " (largest rank's work over the mean), " << ghosts
+            << " halo points, " << format_bytes(bytes) << " exchanged per step in all\n";
+  for (std::size_t r = 0; r < d.share.size(); ++r) {
+    const RankShare& s = d.share[r];
+    std::cout << "  rank " << r << ": " << s.points << " points, " << std::fixed
+              << std::setprecision(1) << 100 * s.work / total << std::defaultfloat
+              << std::setprecision(6) << " % of the work, " << s.ghosts << " halo points, "
+              << format_bytes(s.bytes_per_step()) << " per step\n";
+  }
 }
 
 // Returns the exit status: 0, or 3 when a timed step goes unstable (as `run` would).
@@ -129,6 +161,7 @@ int check(const CheckOptions& opt) {
             << (s.user_dt ? ", from the case" : "") << "), " << sim.planned_steps() << " steps\n";
   if (std::isfinite(s.speed_step)) std::cout << "  " << contact_speed_note(s) << '\n';
   std::cout << contact_law_report(scene);
+  if (opt.ranks > 0) print_decomposition(scene, opt.ranks);
   std::cout << "memory: ~" << megabytes_text(megabytes) << " of body data; peak RSS after set-up "
             << megabytes_text(peak_rss_mb()) << "\n";
 
@@ -167,6 +200,10 @@ void add_check_command(CLI::App& app, int& exit_status) {
   cmd->add_option("--steps", opt->steps, "steps to time for the projection (default 3)")
       ->check(CLI::NonNegativeNumber);
   add_threads_option(*cmd, opt->threads);
+  cmd->add_option("--ranks", opt->ranks,
+                  "report the decomposition a run on this many MPI ranks would use: points, "
+                  "work share, halo points and bytes exchanged per step for each rank")
+      ->check(CLI::Range(1, 1 << 20));
   cmd->callback([opt, &exit_status]() { exit_status = check(*opt); });
 }
 
