@@ -13,6 +13,7 @@
 
 #include "src/case/case_loader.hpp"
 #include "src/cli/cli_options.hpp"
+#include "src/cli/launch_guard.hpp"
 #include "src/cli/setup_interrupt.hpp"
 #include "src/engine/contact_coupling.hpp"
 #include "src/engine/simulation.hpp"
@@ -89,6 +90,10 @@ nlohmann::ordered_json provenance(const RunOptions& opt) {
 }
 
 int run(const RunOptions& opt) {
+  if (const auto refusal = parallel_launch_refusal()) {
+    std::cerr << "ckpd: error: run: " << *refusal << '\n';
+    return 2;
+  }
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   stop_on_signal_during_setup();
   const auto start = std::chrono::steady_clock::now();

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "src/cli/cli_options.hpp"
+#include "src/cli/launch_guard.hpp"
 #include "src/cli/setup_interrupt.hpp"
 #include "src/sweep/runner.hpp"
 #include "src/sweep/sweep_file.hpp"
@@ -41,6 +42,12 @@ std::string own_program() {
 }
 
 int run_sweep_command(const SweepOptions& opt) {
+  if (opt.shard.empty() && !opt.dry_run) {
+    if (const auto refusal = parallel_launch_refusal()) {
+      std::cerr << "ckpd: error: sweep: " << *refusal << '\n';
+      return 2;
+    }
+  }
   // Resolving the sweep and loading each run's case write nothing: a signal meanwhile stops at
   // once with a message (run_sweep installs its own handlers before the first run starts).
   stop_on_signal_during_setup();
