@@ -16,6 +16,7 @@ struct SymmetricKernelStats;
 struct PointResult;
 struct PointCensus;
 struct FailureUpdate;
+struct LinearOperator;
 
 struct ForceModelKernels {
   const char* name;  // as a material's `model:` names it
@@ -35,6 +36,9 @@ struct ForceModelKernels {
   // Null, or what make_body calls last: a model without a per-set census (state_based_model.hpp)
   // sets its own constants and stiffness bound here.
   void (*prepare)(Body& body);
+  // Null, or the linearisation at the reference state (linear_operator.hpp) into the zeroed
+  // rows of op.
+  void (*linearise)(const Body& body, LinearOperator& op);
 };
 
 // The CKPD model's table (the default of every body).

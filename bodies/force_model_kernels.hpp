@@ -4,6 +4,7 @@
 #include "bodies/bond_failure.hpp"
 #include "bodies/census.hpp"
 #include "bodies/force_model.hpp"
+#include "bodies/linear_operator.hpp"
 #include "bodies/point_kernel.hpp"
 #include "bodies/symmetric/kernel_of.hpp"
 
@@ -26,7 +27,10 @@ const ForceModelKernels& kernels_of() {
       [](Body& body, double half_drift) {
         return fail_overstretched_bonds_of(Model::of(body), body, half_drift);
       },
-      nullptr};
+      nullptr,
+      [](const Body& body, LinearOperator& op) {
+        assemble_linear_operator_of(Model::of(body), body, op);
+      }};
   return table;
 }
 

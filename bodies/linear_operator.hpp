@@ -12,10 +12,14 @@
 // reference state contribute nothing, as in the kernels. The inversion penalty is zero at the
 // reference state and every Seth-Hill measure has the same linearisation there (e_m'(1) = 1).
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include "bodies/body.hpp"
+#include "bodies/family_scratch.hpp"
+#include "bodies/set_law.hpp"
 
 namespace ckpd {
 
@@ -34,5 +38,100 @@ LinearOperator reference_linear_operator(const Body& body);
 
 // b^i = sum_c K^ic u^c with the body's displacements, for every point.
 void apply_linear_operator(const LinearOperator& op, const Body& body, std::vector<Vec3>& b);
+
+namespace linear_operator_detail {
+// Where column c sits in row r: 0 for r itself, else 1 + c's place in r's family row.
+inline std::size_t column_slot(const Body& body, std::size_t r, std::uint32_t c) {
+  if (c == r) return 0;
+  const auto begin =
+      body.family.neighbour.begin() + static_cast<std::ptrdiff_t>(body.family.offset[r]);
+  const auto end =
+      body.family.neighbour.begin() + static_cast<std::ptrdiff_t>(body.family.offset[r + 1]);
+  const auto it = std::lower_bound(begin, end, c);
+  if (it == end || *it != c)
+    throw std::logic_error("linear operator: a set's vertices are not in each other's families");
+  return 1 + static_cast<std::size_t>(it - begin);
+}
+
+// Adds scale * lin.block(v, w) for every vertex pair of one set to the rows `rows` lists
+// (vertex v is point vertex[v]); with `only_centre`, to vertex 0's row alone.
+template <int kVertices>
+inline void add_set(const Body& body, LinearOperator& op, const SetLinearisation<kVertices>& lin,
+                    const std::uint32_t (&vertex)[kVertices], const double (&scale)[kVertices],
+                    bool only_centre) {
+  for (int v = 0; v < (only_centre ? 1 : kVertices); ++v) {
+    const std::size_t row = vertex[v];
+    Eigen::Matrix3d* blocks = &op.block[op.offset[row]];
+    for (int w = 0; w < kVertices; ++w)
+      blocks[column_slot(body, row, vertex[w])] += scale[v] * lin.block(v, w);
+  }
+}
+
+// Row i's blocks for a given model (its table's `linearise` entry, force_model_kernels.hpp); op
+// must hold the rows' zeroed blocks (reference_linear_operator allocates them).
+}  // namespace linear_operator_detail
+
+template <class Model>
+void assemble_linear_operator_of(const Model& model, const Body& body, LinearOperator& op) {
+  const std::size_t n = body.size();
+  const bool pairs = Model::kTriangles && model.has_triangles();
+  const bool triples = Model::kTetrahedra && model.has_tetrahedra();
+  // By the body's key, as the reference kernel decides (the table follows it in a case).
+  const bool energy_consistent = body.force_form == ForceForm::energy_consistent;
+  const double degenerate = body.degenerate_fraction;
+  const std::vector<double>& V = body.volume;
+  FamilyScratch s;
+  for (std::size_t c = 0; c < n; ++c) {
+    s.load(body, c, body.damage_enabled, pairs || triples);
+    const std::uint32_t centre = static_cast<std::uint32_t>(c);
+    // The centre's force weight per set of each order; under energy_consistent vertex d's
+    // share is V^c w / ((n + 1) V^d), under own_family only the centre's row takes w.
+    auto scales = [&](double w, int vertices, const std::uint32_t* vertex, double* scale) {
+      for (int v = 0; v < vertices; ++v)
+        scale[v] = energy_consistent ? V[c] * w / (vertices * V[vertex[v]]) : w;
+    };
+    const double w1 = body.dv1[c];
+    for (std::size_t a = 0; a < s.size(); ++a) {
+      const std::uint32_t vertex[2] = {centre, s.index[a]};
+      double scale[2];
+      scales(w1, 2, vertex, scale);
+      linear_operator_detail::add_set<2>(body, op, model.bond_linearisation(s.ref[a]), vertex,
+                                         scale, !energy_consistent);
+    }
+    if constexpr (Model::kTriangles) {
+      if (pairs) {
+        const double w2 = model.triangle_force_weight(body.dv2[c]);
+        s.for_each_pair([&](std::size_t a, std::size_t e) {
+          if (model.triangle_term(s.ref[a], s.ref[e], s.ref[a], s.ref[e], degenerate).degenerate)
+            return;
+          const std::uint32_t vertex[3] = {centre, s.index[a], s.index[e]};
+          double scale[3];
+          scales(w2, 3, vertex, scale);
+          linear_operator_detail::add_set<3>(body, op,
+                                             model.triangle_linearisation(s.ref[a], s.ref[e]),
+                                             vertex, scale, !energy_consistent);
+        });
+      }
+    }
+    if constexpr (Model::kTetrahedra) {
+      if (triples) {
+        const double w3 = model.tetrahedron_force_weight(body.dv3[c]);
+        s.for_each_triple([&](std::size_t a, std::size_t e, std::size_t f) {
+          if (model
+                  .tetrahedron_term(s.ref[a], s.ref[e], s.ref[f], s.ref[a], s.ref[e], s.ref[f],
+                                    degenerate)
+                  .degenerate)
+            return;
+          const std::uint32_t vertex[4] = {centre, s.index[a], s.index[e], s.index[f]};
+          double scale[4];
+          scales(w3, 4, vertex, scale);
+          linear_operator_detail::add_set<4>(
+              body, op, model.tetrahedron_linearisation(s.ref[a], s.ref[e], s.ref[f]), vertex,
+              scale, !energy_consistent);
+        });
+      }
+    }
+  }
+}
 
 }  // namespace ckpd

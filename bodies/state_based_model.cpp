@@ -282,8 +282,9 @@ void prepare(Body& b) {
 }  // namespace
 
 const ForceModelKernels& state_based_kernels() {
-  static const ForceModelKernels table{"state_based",  compute,       point,  census,
-                                       update_failure, fail_and_book, prepare};
+  // No linearisation: the far field needs a model with per-set linearisations.
+  static const ForceModelKernels table{"state_based",  compute,       point,   census,
+                                       update_failure, fail_and_book, prepare, nullptr};
   return table;
 }
 
