@@ -24,8 +24,9 @@ namespace {
 
 // Two blocks of steel, the upper one grazing the lower at `velocity`; 2D (8 x 3 and 8 x 3 points)
 // or 3D (5 x 4 x 3 and 5 x 4 x 3, the upper one shifted across); 200 steps at 0.8 of the stable
-// step, or `refine` times as many at 1/refine of that step.
-std::string grazing_case(int dimension, double mu, int refine) {
+// step, or `refine` times as many at 1/refine of that step. `rigid_low`: the lower block a free
+// rigid body.
+std::string grazing_case(int dimension, double mu, int refine, bool rigid_low = false) {
   const bool d3 = dimension == 3;
   const std::string low = d3 ? "{type: box, min: [0, 0, 0], max: [0.005, 0.004, 0.003]}"
                              : "{type: box, min: [0, 0], max: [0.008, 0.003]}";
@@ -38,8 +39,10 @@ materials:
          (d3 ? "0.25" : "0.3333333333333333") + R"(}
 bodies:
   - {name: low, material: steel, dimension: )" +
-         std::to_string(dimension) + ", geometry: " + low + R"(,
-     spacing: 0.001, horizon_ratio: 3.015}
+         std::to_string(dimension) + ", geometry: " + low +
+         (rigid_low ? ", rigid: {motion: free}, spacing: 0.001}" : R"(,
+     spacing: 0.001, horizon_ratio: 3.015})") +
+         R"(
   - {name: high, material: steel, dimension: )" +
          std::to_string(dimension) + ", geometry: " + high + R"(,
      spacing: 0.001, horizon_ratio: 3.015}
@@ -66,6 +69,15 @@ struct Momenta {
 Momenta momenta(const Scene& scene) {
   Momenta m;
   for (const SceneBody& sb : scene.bodies) {
+    if (sb.rigid) {
+      // m c x v and the spin's angular momentum about c.
+      const RigidMotion& r = *sb.rigid;
+      const Vec3 c = r.state().centre;
+      m.p += r.mass() * r.velocity();
+      m.l += r.mass() * c.cross(r.velocity()) + r.state().angular_momentum;
+      m.scale += r.mass() * c.norm() * r.velocity().norm();
+      continue;
+    }
     const Body& b = sb.body;
     for (std::size_t i = 0; i < b.size(); ++i) {
       const double mass = b.density * b.volume[i];
@@ -170,4 +182,30 @@ TEST_CASE("friction between deformable points gives the same bits on one and two
   }
   omp_set_num_threads(before);
   REQUIRE(state[0] == state[1]);
+}
+
+TEST_CASE("friction between a deformable body and a free rigid one conserves angular momentum",
+          "[contact][dem][friction]") {
+  // The rigid end's couple goes into its spin, the deformable end's to its cluster.
+  const auto dir = fresh_dir("graze-rigid");
+  Scene scene = load_scene(write_file(dir / "case.yaml", grazing_case(3, 0.5, 1, true)));
+  Simulation sim(scene);
+  const Momenta before = momenta(scene);
+  std::size_t contact_steps = 0;
+  for (int k = 0; k < 200; ++k) {
+    sim.advance(k == 199);
+    contact_steps += sim.contact()->statistics().points_in_contact > 0;
+  }
+  const Momenta after = momenta(scene);
+  const double dp = (after.p - before.p).norm() / before.p.norm();
+  const double dl = (after.l - before.l).norm() / before.scale;
+  std::cout << "deformable on rigid: contact for " << contact_steps
+            << " steps; relative change of linear momentum " << dp << ", of angular momentum " << dl
+            << "; friction work " << sim.energies().contact_friction << "; rigid spin "
+            << scene.bodies[0].rigid->angular_velocity().transpose() << "\n";
+  REQUIRE(contact_steps > 10);
+  REQUIRE(sim.energies().contact_friction > 0);
+  REQUIRE(scene.bodies[0].rigid->angular_velocity().norm() > 0);
+  CHECK(dp < 1e-12);
+  CHECK(dl < 1e-12);
 }
