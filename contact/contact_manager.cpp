@@ -9,6 +9,7 @@
 
 #include "base/parallel_policy.hpp"
 #include "contact/dem_contact.hpp"
+#include "contact/point_cluster.hpp"
 
 namespace ckpd {
 
@@ -315,7 +316,7 @@ void ContactManager::add_forces(double dt) {
       double energy;
       // DEM laws only (zero for the seed law): half of each, as the energy.
       double damping_power = 0, slip_work = 0;
-      Vec3 couple = Vec3::Zero();  // (contact point - x^i) x F, for a spinning body
+      Vec3 couple = Vec3::Zero();  // (contact point - x^i) x F: a spinning body's or the cluster's
       Vec3 spring = Vec3::Zero();  // the pair's tangential history, in this end's sense
       bool writes_history = false;
       bool operator<(const Contribution& o) const {
@@ -334,6 +335,8 @@ void ContactManager::add_forces(double dt) {
       const Vec3 xi = body.position(i);
       const double vi = body.volume[i];
       std::uint32_t tests = 0;
+      bool spin_known = false;  // the spin of i's cluster, found at its first frictional contact
+      Vec3 spin = Vec3::Zero();
       found.clear();
       for (std::uint32_t r = target.ref_begin; r < target.ref_end; ++r) {
         const std::uint32_t pair = target_refs_[r] / 2;
@@ -349,6 +352,11 @@ void ContactManager::add_forces(double dt) {
           const std::uint32_t partner_body = p.body[other];
           const PointSet& partner = bodies_[partner_body].points;
           const LawPoint here{vi, body.mass(i)};
+          // With friction a deformable end's cluster takes up the couple of the tangential force
+          // and lends the contact its spin (point_cluster.hpp), as a rigid body's spin does.
+          const bool friction = law.friction > 0;
+          const bool here_cluster = friction && has_clusters(body);
+          const bool partner_cluster = friction && has_clusters(partner);
           p.grid[other].for_each_near(xi, [&](std::uint32_t j, const Vec3& xj, double vj) {
             ++tests;
             const Vec3 d = xi - xj;
@@ -358,7 +366,18 @@ void ContactManager::add_forces(double dt) {
             const double distance = std::sqrt(r2);
             const Vec3 n = d / distance;
             const Vec3 at = 0.5 * (xi + xj);
-            const Vec3 velocity = body.velocity_at(i, at) - partner.velocity_at(j, at);
+            // Each end's material velocity at p formed alone, so that the two ends' differences
+            // are exactly opposite.
+            Vec3 mine = body.velocity_at(i, at), theirs = partner.velocity_at(j, at);
+            if (here_cluster) {
+              if (!spin_known) {
+                spin = cluster_spin(body, i);
+                spin_known = true;
+              }
+              mine += spin.cross(at - xi);
+            }
+            if (partner_cluster) theirs += cluster_spin(partner, j).cross(at - xj);
+            const Vec3 velocity = mine - theirs;
             const bool first = target.body != partner_body ? target.body < partner_body : i < j;
             Vec3 previous = Vec3::Zero();
             if (law.friction > 0)
@@ -370,7 +389,7 @@ void ContactManager::add_forces(double dt) {
             Contribution f{partner_body, j, c.force, 0.5 * c.energy};
             f.damping_power = 0.5 * c.damping_power;
             f.slip_work = 0.5 * c.slip_work;
-            if (body.spins) f.couple = (at - xi).cross(c.force);
+            if (body.spins || here_cluster) f.couple = (at - xi).cross(c.force);
             f.spring = c.spring;
             f.writes_history = first && law.friction > 0;
             found.push_back(f);
@@ -435,7 +454,13 @@ void ContactManager::add_forces(double dt) {
     for (std::size_t t = 0; t < targets_.size(); ++t) {
       damping += target_dem_[t].damping;
       friction_dissipated_ += target_dem_[t].friction;
-      if (Vec3* couple = bodies_[targets_[t].body].points.couple) *couple += target_dem_[t].couple;
+      const PointSet& points = bodies_[targets_[t].body].points;
+      if (points.couple)
+        *points.couple += target_dem_[t].couple;
+      else if (has_clusters(points) && target_dem_[t].couple != Vec3::Zero())
+        // A deformable point's couple goes to its cluster's points (other targets' and not):
+        // here, serially, in target order, so no two threads write one point.
+        add_cluster_couple(points, targets_[t].point, target_dem_[t].couple);
     }
     damping_dissipated_ += dt * damping;
   }

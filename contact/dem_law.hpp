@@ -17,7 +17,8 @@
 // (m* = m^i). A DEM sphere in the usual sense is a rigid body of one point (l_c = R_1 + R_2
 // between two, l_c = R against a wall); a rigid body's points carry its spin, and the tangential
 // force acts at the contact point (the midpoint of a point pair, the nearest surface point of a
-// wall), so it turns the body.
+// wall), so it turns the body. A deformable point's bond neighbourhood takes up that couple
+// and lends the contact its mean spin instead (point_cluster.hpp).
 #include <cmath>
 #include <cstddef>
 #include <functional>

@@ -34,6 +34,13 @@ struct PointSet {
   std::span<const double> volume;      // V^i (areas in 2D)
   std::span<Vec3> force_density;       // b^i, contact adds to it; empty in a read-only view
   BondQuery bonds;
+  // A deformable body's bond families (bodies/bond_family.hpp: point i's partners are
+  // family_neighbour[family_offset[i] .. family_offset[i + 1])) and one flag per stored bond,
+  // 1 while intact: the neighbourhood that takes up a frictional contact's couple
+  // (point_cluster.hpp). Empty for a rigid body and a view without bonds.
+  std::span<const std::size_t> family_offset;
+  std::span<const std::uint32_t> family_neighbour;
+  std::span<const std::uint8_t> bond_intact;
   // A rigid body's spin: a contact at p moves with v^i + omega x (p - x^i), and a force applied
   // at p rather than at x^i adds (p - x^i) x F to `couple` (the torque the body's motion adds to
   // that of its point forces). Deformable points have no spin of their own.

@@ -42,7 +42,14 @@ PointSet point_set(const SceneBody& sb) {
   p.displacement = body.displacement;
   p.velocity = body.velocity;
   p.volume = body.volume;
-  if (!body.family.offset.empty() && body.family.offset.back() > 0) p.bonds = {&body, intact_bond};
+  if (!body.family.offset.empty() && body.family.offset.back() > 0) {
+    p.bonds = {&body, intact_bond};
+    if (!sb.rigid) {
+      p.family_offset = body.family.offset;
+      p.family_neighbour = body.family.neighbour;
+      p.bond_intact = body.bond_intact;
+    }
+  }
   if (sb.rigid) {
     p.spins = true;
     p.angular_velocity = sb.rigid->angular_velocity();

@@ -119,8 +119,33 @@ namespace {
 
 // 7 x 7 x 7 points, spacing 1 mm, horizon 3.015 mm; nu = 0.3: bonds, triangles and tetrahedra;
 // a rigid sphere pressed into its top at 50 m/s. With `damage`, a notch (pre-crack) through half
-// the block and Gc low enough that the contact breaks bonds within the first steps.
-std::string case_text(bool fracture) {
+// the block and Gc low enough that the contact breaks bonds within the first steps. With
+// `friction`, the sphere is a free deformable one that hits obliquely under linear_dashpot with
+// Coulomb friction (tangential springs, the clusters that take up the couples).
+std::string case_text(bool fracture, bool friction = false) {
+  const std::string striker = friction ? R"(  - name: striker
+    material: steel
+    geometry: {type: sphere, center: [0.0035, 0.0035, 0.0094], radius: 0.0025}
+    spacing: 0.001
+    horizon_ratio: 3.015
+conditions:
+  - {type: initial_velocity, body: striker, value: [30, 10, -50]}
+contact:
+  stiffness: 1.0e12
+  radius: 0.00075
+  law: linear_dashpot
+  restitution: 0.5
+  friction: 0.4
+)"
+                                       : R"(  - name: striker
+    material: steel
+    rigid: {motion: prescribed, velocity: [0, 0, -50]}
+    geometry: {type: sphere, center: [0.0035, 0.0035, 0.00945], radius: 0.0025}
+    spacing: 0.0005
+contact:
+  stiffness: 1.0e12
+  radius: 0.00075
+)";
   return std::string(R"(materials:
   steel: {density: 7850, youngs_modulus: 200e9, poisson_ratio: 0.3)") +
          (fracture ? ", fracture_energy: 50" : "") + R"(}
@@ -136,15 +161,7 @@ bodies:
       - [[0.0035, -0.001, 0.0035], [0.0035, 0.008, 0.0035], [0.0035, 0.008, 0.008], [0.0035, -0.001, 0.008]]
 )"
                    : "") +
-         R"(  - name: striker
-    material: steel
-    rigid: {motion: prescribed, velocity: [0, 0, -50]}
-    geometry: {type: sphere, center: [0.0035, 0.0035, 0.00945], radius: 0.0025}
-    spacing: 0.0005
-contact:
-  stiffness: 1.0e12
-  radius: 0.00075
-time: {end: 1.0e-4, dt: auto}
+         striker + R"(time: {end: 1.0e-4, dt: auto}
 output: {history_interval: 1000000}
 )";
 }
@@ -153,20 +170,22 @@ struct Count {
   long long most_in_one_step = 0;  // steps without energy
   long long with_energy = 0;       // all steps with energy together
   std::size_t broken_before = 0, broken_after = 0, precracked = 0;
-  double contact_energy = 0;
+  double contact_energy = 0, friction_before = 0, friction_after = 0;
 };
 
 // 40 steps to warm up, then 40 counted (every tenth with energy, as a history row's step).
-Count count_allocations(bool fracture) {
+Count count_allocations(bool fracture, bool friction = false) {
   using namespace ckpd::testing;
   const auto dir = fresh_dir("step-allocations");
-  ckpd::Scene scene = ckpd::load_scene(write_file(dir / "case.yaml", case_text(fracture)));
+  ckpd::Scene scene =
+      ckpd::load_scene(write_file(dir / "case.yaml", case_text(fracture, friction)));
   ckpd::Simulation sim(scene);
   const int warm_up = 40, counted = 40;
   for (int k = 0; k < warm_up; ++k) sim.advance(k + 1 == warm_up);
   Count c;
   c.broken_before = sim.broken_bonds();
   c.precracked = sim.precracked_bonds(0);
+  c.friction_before = sim.energies().contact_friction;
   traced = 0;
   for (int k = 0; k < counted; ++k) {
     const bool with_energy = k % 10 == 9;
@@ -182,6 +201,7 @@ Count count_allocations(bool fracture) {
   if (trace) print_traces();
   c.broken_after = sim.broken_bonds();
   c.contact_energy = sim.energies().contact;
+  c.friction_after = sim.energies().contact_friction;
   return c;
 }
 
@@ -207,6 +227,19 @@ TEST_CASE("a time step of a damaged 3D body in contact, bonds breaking, allocate
   REQUIRE(c.broken_before > 0);
   REQUIRE(c.precracked > 0);
   REQUIRE(c.contact_energy > 0);
+  CHECK(c.most_in_one_step == 0);
+  CHECK(c.with_energy == 0);
+}
+
+// Two deformable bodies in frictional contact: the tangential springs' lists and the clusters
+// that take up each contact's couple (contact/point_cluster.hpp) allocate nothing in a step.
+TEST_CASE("a time step of two 3D bodies in frictional contact allocates nothing after warm-up",
+          "[allocation]") {
+  const Count c = count_allocations(false, true);
+  INFO("friction work " << c.friction_before << " -> " << c.friction_after);
+  // Friction worked during the steps counted (the sphere is in contact from step 16 to 70).
+  REQUIRE(c.friction_after > c.friction_before);
+  REQUIRE(c.friction_before > 0);
   CHECK(c.most_in_one_step == 0);
   CHECK(c.with_energy == 0);
 }
