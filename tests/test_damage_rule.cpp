@@ -355,5 +355,5 @@ TEST_CASE("a damage_rule other than centre_bonds or all_edges is refused with fi
   CHECK(r.output.find("case.yaml") != std::string::npos);
   CHECK(r.output.find("damage_rule") != std::string::npos);
   CHECK(r.output.find("'centre_bonds' or 'all_edges'") != std::string::npos);
-  CHECK(r.output.find("case.yaml:11:") != std::string::npos);  // the line of the key
+  CHECK(r.output.find("case.yaml:12:") != std::string::npos);  // the line of the key
 }
