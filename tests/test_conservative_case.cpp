@@ -160,6 +160,37 @@ TEST_CASE("ckpd check and summary.json state the force form", "[conservative]") 
   CHECK(s["bodies"][0]["damage_rule"] == "all_edges");
 }
 
+TEST_CASE(
+    "a body without force_form or damage_rule gets energy_consistent with all_edges on "
+    "CKPD, own_family with centre_bonds on pmb",
+    "[conservative]") {
+  std::string text = strip_case("KEY", "KEY", true);
+  for (const std::string key : {"    damage_rule: KEY\n", "    force_form: KEY\n"}) {
+    const auto at = text.find(key);
+    REQUIRE(at != std::string::npos);
+    text.erase(at, key.size());
+  }
+  const auto dir = fresh_dir("force-form-default");
+  const std::string file = write_file(dir / "ckpd.yaml", text);
+  const ckpd::Scene ckpd_scene = ckpd::load_scene(file, {});
+  CHECK(ckpd_scene.bodies[0].body.force_form == ckpd::ForceForm::energy_consistent);
+  CHECK(ckpd_scene.bodies[0].body.damage_rule == ckpd::DamageRule::all_edges);
+  // The seed's law by name.
+  const ckpd::Scene seed = ckpd::load_scene(
+      file, {"bodies.strip.force_form=own_family", "bodies.strip.damage_rule=centre_bonds"});
+  CHECK(seed.bodies[0].body.force_form == ckpd::ForceForm::own_family);
+  CHECK(seed.bodies[0].body.damage_rule == ckpd::DamageRule::centre_bonds);
+  const std::string old =
+      "steel: {density: 7850, youngs_modulus: 200e9, poisson_ratio: 0.4, fracture_energy: 50}";
+  const auto at = text.find(old);
+  REQUIRE(at != std::string::npos);
+  text.replace(at, old.size(),
+               "steel: {model: pmb, density: 7850, micromodulus: 1e20, critical_stretch: 0.01}");
+  const ckpd::Scene pmb = ckpd::load_scene(write_file(dir / "pmb.yaml", text), {});
+  CHECK(pmb.bodies[0].body.force_form == ckpd::ForceForm::own_family);
+  CHECK(pmb.bodies[0].body.damage_rule == ckpd::DamageRule::centre_bonds);
+}
+
 TEST_CASE("two unequal discs colliding keep their total momentum under energy_consistent",
           "[conservative]") {
   kernel_comparison::ThreadCountGuard guard;

@@ -243,7 +243,9 @@ TEST_CASE("failing bonds book exactly the strain energy the body loses, under ei
 
 namespace {
 
-// A pre-cracked 2D strip torn apart, nu = 0.4 in plane stress (C2 > 0: triangles).
+// A pre-cracked 2D strip torn apart, nu = 0.4 in plane stress (C2 > 0: triangles), under the
+// seed's own-family force form (these tests are about the damage rule of MODEL.md's law;
+// tests/test_conservative_case.cpp runs the tear under energy_consistent).
 std::string tear_case(const std::string& rule) {
   return R"(# SI units
 materials:
@@ -255,6 +257,7 @@ bodies:
     geometry: {type: box, min: [0, 0], max: [0.03, 0.015]}
     spacing: 0.001
     horizon_ratio: 3.015
+    force_form: own_family
     damage_rule: )" +
          rule + R"(
     precracks: [[[0, 0.0075], [0.01, 0.0075]]]
@@ -352,5 +355,5 @@ TEST_CASE("a damage_rule other than centre_bonds or all_edges is refused with fi
   CHECK(r.output.find("case.yaml") != std::string::npos);
   CHECK(r.output.find("damage_rule") != std::string::npos);
   CHECK(r.output.find("'centre_bonds' or 'all_edges'") != std::string::npos);
-  CHECK(r.output.find("case.yaml:11:") != std::string::npos);  // the line of the key
+  CHECK(r.output.find("case.yaml:12:") != std::string::npos);  // the line of the key
 }

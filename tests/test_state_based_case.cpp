@@ -194,7 +194,8 @@ conditions:
      value: [-1200, 0]}
 time: {steps: 3}
 )";
-  for (const char* material : {"sb", "ck"}) {
+  // CKPD under both force forms (energy_consistent is the case default).
+  for (const char* material : {"sb", "ck", "ck, force_form: own_family"}) {
     std::string text = kBar;
     text.replace(text.find("MATERIAL"), 8, material);
     const auto dir = fresh_dir("sb-guard");

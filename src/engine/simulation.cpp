@@ -429,7 +429,10 @@ namespace {
 // re-estimated at the current state during the run (THEORY.md section 6).
 bool stiffens_in_compression(const Body& b) {
   if (b.model == &state_based_kernels()) return b.state_based.m <= 0;
-  return b.model == &ckpd_seth_hill_kernels() && b.strain_measure <= 0;
+  // Either CKPD force form: the bond's stiffening with l/L is the same in both.
+  return (b.model == &ckpd_seth_hill_kernels() ||
+          b.model == &ckpd_seth_hill_conservative_kernels()) &&
+         b.strain_measure <= 0;
 }
 
 // CKPD: the growth of a Seth-Hill bond's tangent at the ratio r = l/L over its reference value
