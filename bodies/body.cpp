@@ -107,9 +107,8 @@ std::uint64_t hash_family(const QuantizedFamily& f) {
   return h;
 }
 
-// ForceForm::energy_consistent: per family n, the largest V^c dVn^c over point i and its bond
-// family, over V^i dVn^i (1 where all are equal, as in a lattice's interior; 1 for an empty
-// family).
+}  // namespace
+
 std::array<double, 3> conservative_bound_scale(const Body& body, std::size_t i) {
   const std::vector<double>* dv[3] = {&body.dv1, &body.dv2, &body.dv3};
   std::array<double, 3> r{1, 1, 1};
@@ -125,8 +124,6 @@ std::array<double, 3> conservative_bound_scale(const Body& body, std::size_t i) 
   }
   return r;
 }
-
-}  // namespace
 
 std::uint64_t Body::total_two_neighbour() const {
   std::uint64_t t = 0;

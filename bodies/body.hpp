@@ -2,6 +2,7 @@
 // One CKPD body: structure-of-arrays point data, its bond families, the per-point interaction
 // counts and effective volumes (THEORY.md sections 1-4). Two- and three-neighbour sets are never
 // stored: they are enumerated from the bond family whenever they are needed.
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -186,6 +187,11 @@ struct StiffnessTerms {
   double bonds = 0, pairs = 0, triples = 0;
 };
 StiffnessTerms stiffness_terms(const Body& body, std::size_t i);
+
+// ForceForm::energy_consistent: per family n (bonds, triangles, tetrahedra), the largest
+// V^c dVn^c over point i and its bond family, over V^i dVn^i (1 where all are equal, as in a
+// lattice's interior; 1 for an empty family): the factor of the family's own-family bound.
+std::array<double, 3> conservative_bound_scale(const Body& body, std::size_t i);
 
 // Sum over points of strain_energy_density * volume (call after an energy evaluation).
 double strain_energy(const Body& body);

@@ -52,6 +52,12 @@ namespace ckpd {
 struct LinearStrain {
   static constexpr bool kLinear = true;
   static LinearStrain of(double /*m*/) { return {}; }
+  // The slope and curvature of the law at r = 1 + d (see SethHillStrain::tangent; the stiffness
+  // bound at the current state uses them, the kernels do not).
+  void tangent(double d, double& slope, double& curvature) const {
+    slope = d;
+    curvature = 1;
+  }
 };
 
 // The Seth-Hill measure e_m (m != 1/2 in use; m = 1/2 is exact here too, only slower).
@@ -69,6 +75,17 @@ struct SethHillStrain {
     const double lr = std::log1p(d);
     const double e = m == 0 ? lr : std::expm1(2 * m * lr) / (2 * m);
     return e * std::exp((2 * m - 1) * lr);
+  }
+  // At r = 1 + d: slope = factor(d), and curvature = d/dr (e_m r^(2m - 1)) = r^(4m - 2) +
+  // (2m - 1) e_m r^(2m - 2), d2psi/dm2 in units of its reference value C/R (1 at r = 1 for every
+  // m; r^-2 (1 - log r) for m = 0). It grows without bound as r -> 0 for m <= 0, which is what
+  // the stable-step guard watches (THEORY.md section 6). One log and two exponentials.
+  void tangent(double d, double& slope, double& curvature) const {
+    const double lr = std::log1p(d);
+    const double e = m == 0 ? lr : std::expm1(2 * m * lr) / (2 * m);
+    const double g = std::exp((2 * m - 1) * lr);  // r^(2m - 1)
+    slope = e * g;
+    curvature = g * g + (2 * m - 1) * e * g / (1 + d);
   }
 };
 
@@ -145,6 +162,15 @@ struct CkpdLaw {
     const double L = P.norm();
     const Vec3 n = P / L;
     return {c1, L, {-n, n}};
+  }
+
+  // ---- The tangent at the current state (the stable-step guard, current_stiffness.hpp) -------
+  // At the ratio r = m/R of a set of any family, per unit C: dpsi/dm (with the penalty's
+  // constant slope 2 F |C| / C of an inverted triangle or tetrahedron: `penalty` is pen2, pen3
+  // or 0) and d2psi/dm2 over its reference value C/R.
+  void tangent_at(double r, double penalty, double& slope, double& curvature) const {
+    strain.tangent(r - 1, slope, curvature);
+    slope += penalty;
   }
 
   // ---- Triangles (two-neighbour sets) ---------------------------------------------------

@@ -12,10 +12,10 @@ using namespace ckpd::testing;
 namespace {
 
 // A small 2D plate whose top rows are pulled up, SI units; MEASURE is replaced by the key under
-// test.
+// test. nu = 0.4 in plane stress: C2 > 0, as m <= 0 needs (a negative C2 is refused).
 const char* kCase = R"(# a small 2D plate, SI units
 materials:
-  steel: {MEASURE density: 7580, youngs_modulus: 210e9, poisson_ratio: 0.3}
+  steel: {MEASURE density: 7580, youngs_modulus: 210e9, poisson_ratio: 0.4}
 bodies:
   - name: plate
     material: steel
@@ -32,6 +32,12 @@ time: {steps: 20}
 std::string with_measure(const std::string& key) {
   std::string text = kCase;
   return text.replace(text.find("MEASURE "), 8, key);
+}
+
+void replace_once(std::string& text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  text.replace(at, from.size(), to);
 }
 
 CommandResult run_case(const std::string& text, const std::filesystem::path& dir,
@@ -69,6 +75,46 @@ TEST_CASE("ckpd check names the strain measure", "[strain_measure][cli]") {
   INFO(r.output);
   CHECK(r.exit_code == 0);
   CHECK(r.output.find("strain measure m = -0.5") != std::string::npos);
+}
+
+TEST_CASE("a barrier measure on a material with a negative set constant is refused",
+          "[strain_measure]") {
+  // m <= 0 with C2 < 0 (plane stress nu < 1/3) or C3 < 0 (3D nu < 1/4): the sets' energy goes to
+  // minus infinity as they collapse. m = 1/2 (bounded energy) and m > 0 are accepted.
+  struct Row {
+    const char* m;
+    const char* nu;
+    const char* geometry;  // "" keeps the 2D plate
+    int exit_code;
+    const char* constant;
+  };
+  const std::string three_d =
+      "dimension: 3\n    geometry: {type: box, min: [0, 0, 0], max: [0.02, 0.02, 0.02]}";
+  for (const Row& row : {Row{"0", "0.3", "", 2, "C2 = -"}, Row{"-0.5", "0.2", "", 2, "C2 = -"},
+                         Row{"-0.5", "0.2", "3d", 2, "C3 = -"}, Row{"0.5", "0.3", "", 0, ""},
+                         Row{"0.25", "0.2", "3d", 0, ""}, Row{"0", "0.3", "3d", 0, ""}}) {
+    const auto dir = fresh_dir("sm-anti");
+    std::string text = with_measure(std::string("strain_measure: {m: ") + row.m + "}, ");
+    replace_once(text, "poisson_ratio: 0.4", std::string("poisson_ratio: ") + row.nu);
+    if (std::string(row.geometry) == "3d") {
+      const std::string plate =
+          "dimension: 2\n    geometry: {type: box, min: [0, 0], max: [0.05, 0.05]}";
+      replace_once(text, plate, three_d);
+      replace_once(text, "min: [0, 0.045], max: [0.05, 0.05]",
+                   "min: [0, 0, 0.015], max: [0.02, 0.02, 0.02]");
+      replace_once(text, "value: [0, 20]", "value: [0, 0, 20]");
+      replace_once(text, "components: [y]", "components: [z]");
+      replace_once(text, "time: {steps: 20}", "time: {steps: 2}");
+    }
+    const CommandResult r = run_ckpd("check " + write_file(dir / "case.yaml", text));
+    INFO("m = " << row.m << ", nu = " << row.nu << " " << row.geometry << ": " << r.output);
+    CHECK(r.exit_code == row.exit_code);
+    if (row.exit_code == 2) {
+      CHECK(r.output.find("case.yaml:3: materials.steel.strain_measure.m") != std::string::npos);
+      CHECK(r.output.find(row.constant) != std::string::npos);
+      CHECK(r.output.find("minus infinity") != std::string::npos);
+    }
+  }
 }
 
 TEST_CASE("a strain measure that is not a number is refused with file, line and key",
@@ -114,8 +160,8 @@ TEST_CASE("a pmb material has no strain measure", "[strain_measure]") {
   const auto dir = fresh_dir("sm-pmb");
   std::string text = kCase;
   text.replace(
-      text.find("MEASURE density: 7580, youngs_modulus: 210e9, poisson_ratio: 0.3"),
-      std::string("MEASURE density: 7580, youngs_modulus: 210e9, poisson_ratio: 0.3").size(),
+      text.find("MEASURE density: 7580, youngs_modulus: 210e9, poisson_ratio: 0.4"),
+      std::string("MEASURE density: 7580, youngs_modulus: 210e9, poisson_ratio: 0.4").size(),
       "model: pmb, density: 7580, micromodulus: 1e20, strain_measure: {m: 0}");
   const CommandResult r = run_case(text, dir);
   INFO(r.output);
@@ -131,7 +177,7 @@ TEST_CASE("a plate crushed with the log measure completes finite or stops as uns
   for (const char* m : {"0", "-0.5"}) {
     const auto dir = fresh_dir("sm-crush");
     std::string text = with_measure(std::string("strain_measure: {m: ") + m + "}, ");
-    text.replace(text.find("value: [0, 20]"), 14, "value: [0, -300]");
+    replace_once(text, "value: [0, 20]", "value: [0, -300]");
     text.replace(text.find("time: {steps: 20}"), 17,
                  "time: {end: 6.0e-5}\n"
                  "output: {history_interval: 10}");

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "base/parallel_policy.hpp"
+#include "bodies/current_stiffness.hpp"
 #include "bodies/damage.hpp"
 #include "bodies/state_based_model.hpp"
 #include "bodies/symmetric_kernel.hpp"
@@ -429,18 +430,10 @@ namespace {
 // re-estimated at the current state during the run (THEORY.md section 6).
 bool stiffens_in_compression(const Body& b) {
   if (b.model == &state_based_kernels()) return b.state_based.m <= 0;
-  // Either CKPD force form: the bond's stiffening with l/L is the same in both.
+  // Either CKPD force form: the bond's and the sets' stiffening are the same in both.
   return (b.model == &ckpd_seth_hill_kernels() ||
           b.model == &ckpd_seth_hill_conservative_kernels()) &&
          b.strain_measure <= 0;
-}
-
-// CKPD: the growth of a Seth-Hill bond's tangent at the ratio r = l/L over its reference value
-// C/L: along the bond |r^(4m-2) + (2m-1) e_m r^(2m-2)|, across it |e_m| r^(2m-2).
-double ckpd_bond_stiffening(double m, double r) {
-  const double e = m == 0 ? std::log(r) : (std::pow(r, 2 * m) - 1) / (2 * m);
-  const double along = std::pow(r, 4 * m - 2) + (2 * m - 1) * e * std::pow(r, 2 * m - 2);
-  return std::abs(along) + std::abs(e) * std::pow(r, 2 * m - 2);
 }
 
 // The stable step of a body at its current displacement (see check_stable_step).
@@ -449,19 +442,7 @@ StableStep current_stable_step(const Body& b, double extra_stiffness) {
   if (b.model == &state_based_kernels()) {
     state_based_stiffness_bound(b, k);
   } else {
-    k.resize(b.size());
-#pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < b.size(); ++i) {
-      double factor = 1;
-      for (std::size_t s = b.family.offset[i]; s < b.family.offset[i + 1]; ++s) {
-        if (!b.bond_intact[s]) continue;
-        const std::uint32_t j = b.family.neighbour[s];
-        const Vec3 dX = b.reference_position[j] - b.reference_position[i];
-        const double r = (dX + b.displacement[j] - b.displacement[i]).norm() / dX.norm();
-        factor = std::max(factor, ckpd_bond_stiffening(b.strain_measure, r));
-      }
-      k[i] = factor * b.stiffness_bound[i];
-    }
+    ckpd_current_stiffness_bound(b, k);  // bonds, triangles and tetrahedra where they are now
   }
   StableStep s;
   for (std::size_t i = 0; i < b.size(); ++i) {

@@ -5,6 +5,7 @@
 // of every family (bodies/ckpd_model.hpp).
 #include <cmath>
 #include <optional>
+#include <sstream>
 
 #include "bodies/material.hpp"
 #include "bodies/patch_test.hpp"
@@ -30,6 +31,7 @@ class CkpdMaterial : public MaterialModel {
     if (fracture_energy_ && critical_stretch_)
       m.fail("either fracture_energy or critical_stretch, not both");
     strain_measure_ = strain_measure_of(m);
+    if (auto sm = m.optional("strain_measure")) strain_measure_node_ = sm->required("m");
   }
 
   std::optional<ElasticConstants> elastic() const override {
@@ -44,6 +46,7 @@ class CkpdMaterial : public MaterialModel {
     if (t.calibrated)
       def.constants = calibrated_constants(t.dimension, youngs_modulus_, poisson_ratio_, t.plane,
                                            t.horizon, t.spacing);
+    refuse_anti_barrier(def.constants, t);
     if (critical_stretch_) {
       def.critical_stretch = *critical_stretch_;
     } else if (fracture_energy_) {
@@ -53,7 +56,28 @@ class CkpdMaterial : public MaterialModel {
   }
 
  private:
+  // For m <= 0 a set's energy C R e_m^2 / 2 goes to +infinity as it collapses when C > 0 (the
+  // barrier), but to -infinity when C < 0: a set with a negative constant would then release
+  // unbounded energy by collapsing, and nothing bounds the body's energy from below. Refused
+  // (THEORY.md section 2, "Strain measures"): 3D and plane strain need nu >= 1/4, plane stress
+  // nu >= 1/3 (lambda >= mu), or constants that are not negative.
+  void refuse_anti_barrier(const InteractionConstants& c, const MaterialTarget& t) const {
+    if (strain_measure_ > 0 || !strain_measure_node_) return;
+    const bool triangles = c.c2 < 0, tetrahedra = c.c3 < 0;
+    if (!triangles && !tetrahedra) return;
+    std::ostringstream msg;
+    msg << "m > 0 for this material (m = " << strain_measure_ << " makes the energy of its "
+        << (triangles ? "triangles (C2 = " : "tetrahedra (C3 = ") << (triangles ? c.c2 : c.c3)
+        << " < 0" << (t.calibrated ? ", calibrated" : "") << ") go to minus infinity as they "
+        << "collapse: no barrier but a pull towards collapse; the Seth-Hill measures with m <= 0 "
+        << "need C2, C3 >= 0, i.e. nu >= "
+        << (t.dimension == 2 && t.plane != PlaneMode::strain ? "1/3 in plane stress" : "1/4")
+        << ")";
+    strain_measure_node_->fail(msg.str());
+  }
+
   double youngs_modulus_ = 0, poisson_ratio_ = 0;
+  std::optional<CaseNode> strain_measure_node_;  // where m was given (errors name it)
   double strain_measure_ = 0.5;
   std::optional<double> fracture_energy_, critical_stretch_;
 };

@@ -1,0 +1,120 @@
+// The CKPD stiffness bound at the current displacement (current_stiffness.hpp).
+#include "bodies/current_stiffness.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <limits>
+
+#include "bodies/census.hpp"
+#include "bodies/ckpd_model.hpp"
+#include "bodies/family_scratch.hpp"
+
+namespace ckpd {
+
+namespace {
+
+using Mat3 = Eigen::Matrix3d;
+
+template <class Model>
+double point_bound(const Model& model, const Body& body, std::size_t i, const FamilyScratch& s,
+                   bool planar) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const double deg = body.degenerate_fraction;
+  Mat3 q1 = Mat3::Zero(), q2 = Mat3::Zero(), q3 = Mat3::Zero();
+  double iso2 = 0, iso3 = 0;  // the measures' own curvature, the same in every direction
+  // Bonds: the tangent of C1 L e^2 / 2 in l, along the bond and across it ((I - n n^T) / l).
+  for (std::size_t a = 0; a < s.size(); ++a) {
+    const double L = s.length[a], l = s.cur[a].norm();
+    if (!(l > 0)) return kInf;
+    const double r = l / L;
+    const Vec3 n = s.cur[a] / l;
+    const Mat3 along = n * n.transpose();
+    Mat3 across = Mat3::Identity() - along;
+    if (planar) across(2, 2) = 0;  // a 2D body moves in its plane
+    double slope, curvature;
+    model.tangent_at(r, 0, slope, curvature);
+    q1 += std::abs(curvature) * law_curvature(2.0, L) * along + 2.0 * std::abs(slope) / l * across;
+  }
+  if (model.has_triangles() && body.has_pairs()) {
+    s.for_each_pair([&](std::size_t a, std::size_t b) {
+      const Vec3 P = s.ref[a], Q = s.ref[b];
+      const Vec3 ref_area = P.cross(Q);
+      const double A = ref_area.norm();
+      if (A <= deg * s.length[a] * s.length[b]) return;
+      const Vec3 p = s.cur[a], q = s.cur[b];
+      const Vec3 area = p.cross(q);
+      const double an = area.norm();
+      if (!(an > 0)) {
+        iso2 = kInf;
+        return;
+      }
+      const double r = an / A;
+      const bool inverted = model.triangle_inverted(area.z(), ref_area.z());
+      const Vec3 unit = area / an;
+      // grad_c |a| = G_c x n with G = (p - q, q, -p) (triangle_linearisation at the current
+      // state); |grad_c a| is the length of the edge opposite c.
+      const Vec3 g0 = (p - q).cross(unit), g1 = q.cross(unit), g2 = unit.cross(p);
+      double slope, curvature;
+      model.tangent_at(r, inverted ? model.pen2 : 0.0, slope, curvature);
+      add_bound(q2, std::abs(curvature) * law_curvature(2.0, A), g0,
+                g0.norm() + g1.norm() + g2.norm());
+      const double e0 = (p - q).norm(), e1 = q.norm(), e2 = p.norm();
+      const double out_of_plane = planar ? 0.0 : e0 * (e0 + e1 + e2) / an;
+      iso2 += 2.0 * std::abs(slope) * (2.0 + out_of_plane);
+    });
+  }
+  if (model.has_tetrahedra() && body.has_triples()) {
+    s.for_each_triple([&](std::size_t a, std::size_t b, std::size_t c) {
+      const Vec3 P = s.ref[a], Q = s.ref[b], R = s.ref[c];
+      const double signed_V = P.dot(Q.cross(R)), V = std::abs(signed_V);
+      if (V <= deg * s.length[a] * s.length[b] * s.length[c]) return;
+      const Vec3 p = s.cur[a], q = s.cur[b], r = s.cur[c];
+      const Vec3 gj = q.cross(r), gk = r.cross(p), gl = p.cross(q);
+      const Vec3 gi = -(gj + gk + gl);
+      const double v = p.dot(gj);
+      if (v == 0) {
+        iso3 = kInf;
+        return;
+      }
+      const double ratio = std::abs(v) / V;
+      const bool inverted = model.tetrahedron_inverted(v, signed_V);
+      double slope, curvature;
+      model.tangent_at(ratio, inverted ? model.pen3 : 0.0, slope, curvature);
+      add_bound(q3, std::abs(curvature) * law_curvature(6.0, V), gi,
+                gi.norm() + gj.norm() + gk.norm() + gl.norm());
+      // d2v / dx_i dx_d: the cross-product matrix of the edge opposite i and d.
+      iso3 += 6.0 * std::abs(slope) * ((q - r).norm() + (r - p).norm() + (p - q).norm());
+    });
+  }
+  if (!std::isfinite(iso2) || !std::isfinite(iso3)) return kInf;
+  const std::array<double, 3> scale = body.force_form == ForceForm::energy_consistent
+                                          ? conservative_bound_scale(body, i)
+                                          : std::array<double, 3>{1, 1, 1};
+  const double w1 = std::abs(body.constants.c1) * body.dv1[i] * scale[0];
+  const double w2 = std::abs(body.constants.c2) * body.dv2[i] * scale[1];
+  const double w3 = std::abs(body.constants.c3) * body.dv3[i] * scale[2];
+  const Mat3 q = w1 * q1 + w2 * q2 + w3 * q3;
+  if (!q.allFinite()) return kInf;
+  return Eigen::SelfAdjointEigenSolver<Mat3>(q, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff() +
+         w2 * iso2 + w3 * iso3;
+}
+
+}  // namespace
+
+void ckpd_current_stiffness_bound(const Body& body, std::vector<double>& bound) {
+  const CkpdSethHillModel model = CkpdSethHillModel::of(body);
+  const bool sets = body.has_pairs() || body.has_triples();
+  const bool planar = body.dimension == 2;
+  bound.assign(body.size(), 0);
+#pragma omp parallel
+  {
+    FamilyScratch scratch;
+#pragma omp for schedule(dynamic, 16)
+    for (std::size_t i = 0; i < body.size(); ++i) {
+      scratch.load(body, i, true, sets);
+      bound[i] = point_bound(model, body, i, scratch, planar);
+    }
+  }
+}
+
+}  // namespace ckpd
