@@ -274,7 +274,20 @@ TEST_CASE("a mesh header claiming 353 billion vertices is refused at once, not r
           "[hardened][mesh]") {
   // The campaign's 309-byte invalid/OutOfMemory.off drove RSS past 8 GB in 20 s: an OFF cube
   // whose header counts 353,535,235,358 vertices. The child's allocation fails against its
-  // limit (or AddressSanitizer's), and the error names the file and key.
+  // limit (RLIMIT_AS, 8 GiB), and the error names the file and key.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define CKPD_TEST_UNDER_ASAN 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(CKPD_TEST_UNDER_ASAN)
+  // Under AddressSanitizer the child has no address-space limit (the shadow memory reserves
+  // terabytes): assimp's OFF reader then fills memory (the child passed 16 GB of RSS, as if
+  // the count were read as 32 bits: 1.35e9 vertices), the campaign's signature. Not run in
+  // the sanitizer build.
+  WARN("AddressSanitizer build: the mesh import child has no memory limit; skipped");
+  return;
+#endif
   const auto dir = fresh_dir("mesh-oom");
   std::string off = "OFF\n353535235358 6 0\n";
   for (int k = 0; k < 8; ++k)
