@@ -7,6 +7,9 @@
 # in build-san/corpus/<target> (seeded from cases/ on first use), findings in
 # build-san/findings/<target>, the log in build-san/<target>.log. libFuzzer's -fork mode keeps
 # going after a finding, so one run reports every crash, timeout and out-of-memory it meets.
+# Environment: CKPD_FUZZ_TIMEOUT (seconds one input may take before it counts as a hang,
+# default 10; on a loaded machine the larger seeds need 60), CKPD_FUZZ_BUILD=0 (run the
+# harnesses already built, e.g. while the same build folder compiles the tests).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"
@@ -15,7 +18,7 @@ targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(fuzz_case_loader fuzz_sweep_file fuzz_expression)
 
 build="${CKPD_SAN_BUILD:-build-san}"
-scripts/sanitizer_build.sh "${targets[@]}"
+[ "${CKPD_FUZZ_BUILD:-1}" = 0 ] || scripts/sanitizer_build.sh "${targets[@]}"
 
 seed() {  # the seed corpus of one target, from cases/
   local target=$1 dir=$build/corpus/$1
@@ -41,6 +44,7 @@ for target in "${targets[@]}"; do
   mkdir -p "$build/findings/$target"
   # -timeout: a single input taking 10 s is a hang; -rss_limit_mb: 2 GB is a memory blow-up.
   "./$build/fuzz/$target" "$build/corpus/$target" -fork=1 -ignore_crashes=1 \
-    -ignore_timeouts=1 -ignore_ooms=1 -timeout=10 -rss_limit_mb=2048 -max_total_time="$seconds" \
+    -ignore_timeouts=1 -ignore_ooms=1 -timeout="${CKPD_FUZZ_TIMEOUT:-10}" -rss_limit_mb=2048 \
+    -max_total_time="$seconds" \
     -artifact_prefix="$build/findings/$target/" 2>&1 | tee "$build/$target.log" | tail -5
 done

@@ -197,7 +197,10 @@ TriangleMesh read_mesh_file(const std::string& path) {
   int status = 0;
   while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
   }
-  const std::string who = importer_name + " importer";
+  // assimp's names mostly end in "Importer" already ("Raw Importer"): not "Importer importer".
+  const bool named = importer_name.size() >= 8 &&
+                     importer_name.compare(importer_name.size() - 8, 8, "Importer") == 0;
+  const std::string who = named ? importer_name : importer_name + " importer";
   if (WIFSIGNALED(status))
     throw MeshError("a mesh file " + who + " can read: it was killed by " +
                     signal_text(WTERMSIG(status)) + " reading " + path);
@@ -211,9 +214,11 @@ TriangleMesh read_mesh_file(const std::string& path) {
   if (answer.size() < 1 + sizeof counts) throw MeshError("a complete answer from the " + who);
   std::memcpy(counts, answer.data() + 1, sizeof counts);
   TriangleMesh mesh;
-  const std::size_t expected =
-      1 + sizeof counts + counts[0] * sizeof(Vec3) + counts[1] * sizeof(mesh.triangle[0]);
-  if (answer.size() != expected) throw MeshError("a complete answer from the " + who);
+  // The counts bounded by the answer's length first: their products cannot wrap.
+  const std::size_t body = answer.size() - 1 - sizeof counts;
+  if (counts[0] > body / sizeof(Vec3) || counts[1] > body / sizeof(mesh.triangle[0]) ||
+      counts[0] * sizeof(Vec3) + counts[1] * sizeof(mesh.triangle[0]) != body)
+    throw MeshError("a complete answer from the " + who);
   mesh.vertex.resize(counts[0]);
   mesh.triangle.resize(counts[1]);
   const char* at = answer.data() + 1 + sizeof counts;
