@@ -114,7 +114,10 @@ FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double
   bond_failure_detail::FailureWorkspace& w = bond_failure_detail::failure_workspace();
   std::vector<std::uint8_t>& failing = w.failing;
   std::vector<std::uint8_t>& touched = w.touched;
-  failing.assign(body.family.neighbour.size(), 0);
+  // All zero between calls (the flags set below are cleared where they are applied), so a step
+  // clears nothing unless the body's bond count differs from the last body's.
+  if (failing.size() != body.family.neighbour.size())
+    failing.assign(body.family.neighbour.size(), 0);
   touched.assign(n, 0);
   std::size_t failed = 0;
 #pragma omp parallel for schedule(static) reduction(+ : failed)
@@ -184,7 +187,10 @@ FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double
   if (half_drift != 0) std::copy(end_of_step.begin(), end_of_step.end(), body.displacement.begin());
 #pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < failing.size(); ++k)
-    if (failing[k]) body.bond_intact[k] = 0;
+    if (failing[k]) {
+      body.bond_intact[k] = 0;
+      failing[k] = 0;
+    }
   // Summed in point order, so the result does not depend on the thread schedule.
   double dissipated = 0;
   for (std::size_t p = 0; p < points.size(); ++p) dissipated += body.volume[points[p]] * lost[p];
