@@ -545,6 +545,28 @@ void Simulation::restore(const Counters& c) {
   initially_failed_ = c.initially_failed;
 }
 
+void Simulation::refresh_strain_energy() {
+  const std::size_t bodies = scene_.bodies.size();
+  std::vector<double>& strain = step_strain_;
+  strain.assign(bodies, 0.0);
+  std::vector<Vec3> kept;
+  for (std::size_t k = 0; k < bodies; ++k) {
+    SceneBody& sb = scene_.bodies[k];
+    if (sb.rigid) continue;
+    Body& b = sb.body;
+    // The kernel overwrites the force density (internal plus the external loads added after
+    // it); the step's forces must stay the ones the next kick uses.
+    kept = b.force_density;
+    const SymmetricKernelStats stats = compute_internal_force_symmetric(b, true);
+    b.force_density.swap(kept);
+    inverted_[k] = stats.inverted_tetrahedra + stats.inverted_triangles;
+    strain[k] = strain_energy(b);
+  }
+  strain_energy_ = 0;
+  for (std::size_t k = 0; k < bodies; ++k) strain_energy_ += strain[k];  // body order
+  max_inverted_ = std::max(max_inverted_, inverted());
+}
+
 Energies Simulation::energies() const {
   Energies e;
   for (const SceneBody& sb : scene_.bodies) {

@@ -111,6 +111,11 @@ class Simulation {
   double step_size(long long index) const;
   // Energies as of the last evaluation with energy (kinetic and work are always current).
   Energies energies() const;
+  // Evaluates the strain energy (and the inverted-set counts) at the current positions, for a
+  // history row or summary written at a step that had no evaluation with energy (a run stopped
+  // between rows). Forces, damage and the step's state are left exactly as they were, so a run
+  // continued from here is the same bit for bit.
+  void refresh_strain_energy();
   // Bonds broken during the run (pre-cracks not counted), in all bodies / in body b.
   std::size_t broken_bonds() const;
   std::size_t broken_bonds(std::size_t body) const;

@@ -115,7 +115,12 @@ nlohmann::ordered_json RunDriver::summary(const std::string& status,
 void RunDriver::stop(const std::string& status, const std::string& message) {
   progress_.finish();
   if (row_step_ != sim_.step()) {
-    if (history_) history_->write_row(sim_);
+    // The last step had no evaluation with energy: the row and the summary must not carry the
+    // strain energy of the row before against this step's kinetic energy and work.
+    if (history_) {
+      sim_.refresh_strain_energy();
+      history_->write_row(sim_);
+    }
     row_step_ = sim_.step();
   }
   if (!options_.out.empty()) write_json(options_.out + "/summary.json", summary(status, message));
