@@ -36,6 +36,10 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
     SymmetricKernelThread& th = workspace.thread(t);
     th.stats = {};
     th.force.assign(n, Vec3::Zero());  // keeps its capacity: no allocation after the first call
+    // The energy buffer grows with the force buffer, not at the first evaluation with energy:
+    // a host thread may meet a larger body first in a step without energy (small bodies are
+    // dealt to threads dynamically), and the energy step would then allocate.
+    if (th.energy.capacity() < n) th.energy.reserve(n);
     if (with_energy) th.energy.assign(n, 0.0);
     if (ctx.stencil != nullptr && ctx.intact != nullptr) {
 #pragma omp for schedule(static)
