@@ -2,6 +2,7 @@
 #include "bodies/current_stiffness.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -15,9 +16,21 @@ namespace {
 
 using Mat3 = Eigen::Matrix3d;
 
+// The time a measure m of a set (or bond) takes to reach zero at its rate dm/dt when shrinking.
+inline void shrink(double measure, double rate, double& time) {
+  if (rate < 0) time = std::min(time, measure / -rate);
+}
+
+// w[a]: the velocity of slot a's point relative to point i's.
+void relative_velocities(const Body& body, std::size_t i, const FamilyScratch& s,
+                         std::vector<Vec3>& w) {
+  w.resize(s.size());
+  for (std::size_t a = 0; a < s.size(); ++a) w[a] = body.velocity[s.index[a]] - body.velocity[i];
+}
+
 template <class Model>
 double point_bound(const Model& model, const Body& body, std::size_t i, const FamilyScratch& s,
-                   bool planar) {
+                   bool planar, const std::vector<Vec3>* w, double& shrink_time) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const double deg = body.degenerate_fraction;
   Mat3 q1 = Mat3::Zero(), q2 = Mat3::Zero(), q3 = Mat3::Zero();
@@ -31,6 +44,7 @@ double point_bound(const Model& model, const Body& body, std::size_t i, const Fa
     const Mat3 along = n * n.transpose();
     Mat3 across = Mat3::Identity() - along;
     if (planar) across(2, 2) = 0;  // a 2D body moves in its plane
+    if (w) shrink(l, n.dot((*w)[a]), shrink_time);
     double slope, curvature;
     model.tangent_at(r, 0, slope, curvature);
     q1 += std::abs(curvature) * law_curvature(2.0, L) * along + 2.0 * std::abs(slope) / l * across;
@@ -51,6 +65,7 @@ double point_bound(const Model& model, const Body& body, std::size_t i, const Fa
       const double r = an / A;
       const bool inverted = model.triangle_inverted(area.z(), ref_area.z());
       const Vec3 unit = area / an;
+      if (w) shrink(an, unit.dot((*w)[a].cross(q) + p.cross((*w)[b])), shrink_time);
       // grad_c |a| = G_c x n with G = (p - q, q, -p) (triangle_linearisation at the current
       // state); |grad_c a| is the length of the edge opposite c.
       const Vec3 g0 = (p - q).cross(unit), g1 = q.cross(unit), g2 = unit.cross(p);
@@ -77,6 +92,10 @@ double point_bound(const Model& model, const Body& body, std::size_t i, const Fa
         return;
       }
       const double ratio = std::abs(v) / V;
+      if (w) {
+        const double dv = (*w)[a].dot(gj) + (*w)[b].dot(gk) + (*w)[c].dot(gl);
+        shrink(std::abs(v), v > 0 ? dv : -dv, shrink_time);
+      }
       const bool inverted = model.tetrahedron_inverted(v, signed_V);
       double slope, curvature;
       model.tangent_at(ratio, inverted ? model.pen3 : 0.0, slope, curvature);
@@ -101,18 +120,44 @@ double point_bound(const Model& model, const Body& body, std::size_t i, const Fa
 
 }  // namespace
 
-void ckpd_current_stiffness_bound(const Body& body, std::vector<double>& bound) {
+void ckpd_current_stiffness_bound(const Body& body, std::vector<double>& bound,
+                                  std::vector<double>* shrink_time) {
   const CkpdSethHillModel model = CkpdSethHillModel::of(body);
   const bool sets = body.has_pairs() || body.has_triples();
   const bool planar = body.dimension == 2;
   bound.assign(body.size(), 0);
+  if (shrink_time) shrink_time->assign(body.size(), std::numeric_limits<double>::infinity());
 #pragma omp parallel
   {
     FamilyScratch scratch;
+    std::vector<Vec3> w;
 #pragma omp for schedule(dynamic, 16)
     for (std::size_t i = 0; i < body.size(); ++i) {
       scratch.load(body, i, true, sets);
-      bound[i] = point_bound(model, body, i, scratch, planar);
+      double t = std::numeric_limits<double>::infinity();
+      if (shrink_time) relative_velocities(body, i, scratch, w);
+      bound[i] = point_bound(model, body, i, scratch, planar, shrink_time ? &w : nullptr, t);
+      if (shrink_time) (*shrink_time)[i] = t;
+    }
+  }
+}
+
+void bond_shrink_time(const Body& body, std::vector<double>& shrink_time) {
+  shrink_time.assign(body.size(), std::numeric_limits<double>::infinity());
+#pragma omp parallel
+  {
+    FamilyScratch scratch;
+    std::vector<Vec3> w;
+#pragma omp for schedule(dynamic, 16)
+    for (std::size_t i = 0; i < body.size(); ++i) {
+      scratch.load(body, i, true, false);
+      relative_velocities(body, i, scratch, w);
+      double t = std::numeric_limits<double>::infinity();
+      for (std::size_t a = 0; a < scratch.size(); ++a) {
+        const double l = scratch.cur[a].norm();
+        if (l > 0) shrink(l, scratch.cur[a].dot(w[a]) / l, t);
+      }
+      shrink_time[i] = t;
     }
   }
 }
