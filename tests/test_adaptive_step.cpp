@@ -140,7 +140,10 @@ TEST_CASE("an adaptive run's energy balance closes to second order in the step",
 
 TEST_CASE("an adaptive run and a restart of it continue bit for bit", "[adaptive_step][restart]") {
   const auto dir = fresh_dir("adaptive-restart");
-  const std::string file = write_file(dir / "case.yaml", bar("steps: 60, step: adaptive"));
+  std::string text = bar("steps: 60, step: adaptive");
+  text.replace(text.find("history_interval: 10"), 20,
+               "history_interval: 10, checkpoint_interval: 30");
+  const std::string file = write_file(dir / "case.yaml", text);
   CommandResult r =
       run_ckpd("run " + file + " --quiet --threads 2 --out " + (dir / "full").string());
   INFO(r.output);
