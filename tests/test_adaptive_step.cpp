@@ -1,5 +1,5 @@
-// time.step: adaptive (THEORY.md section 6, "Variable step"): each step is min(dt, safety x the
-// stable step at the current state, the kinematic limit), never above the case's dt; a run to
+// time.step_mode: adaptive (THEORY.md section 6, "Variable step"): each step is min(dt, safety x
+// the stable step at the current state, the kinematic limit), never above the case's dt; a run to
 // time.end lands on it; the balance closes to second order in the step; a restart continues bit
 // for bit; the fixed step's guard stops the same case where the adaptive step falls.
 #include <catch2/catch.hpp>
@@ -77,7 +77,7 @@ TEST_CASE("the adaptive step falls where the fixed step's guard stops the run", 
   CHECK_FALSE(s0.contains("adaptive_step"));
 
   const auto dir = fresh_dir("adaptive-falls");
-  const CommandResult r = run_case(bar("end: 1.0e-5, step: adaptive"), dir);
+  const CommandResult r = run_case(bar("end: 1.0e-5, step_mode: adaptive"), dir);
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   const auto s = read_json(dir / "out" / "summary.json");
@@ -99,7 +99,7 @@ TEST_CASE("the adaptive step falls where the fixed step's guard stops the run", 
 TEST_CASE("every adaptive step is at most dt and at most safety x the current stable step",
           "[adaptive_step]") {
   const auto dir = fresh_dir("adaptive-api");
-  Scene scene = load_scene(write_file(dir / "case.yaml", bar("end: 4.0e-6, step: adaptive")));
+  Scene scene = load_scene(write_file(dir / "case.yaml", bar("end: 4.0e-6, step_mode: adaptive")));
   Simulation sim(scene);
   REQUIRE(sim.adaptive());
   const double dt = sim.step_choice().dt;
@@ -127,7 +127,7 @@ TEST_CASE("an adaptive run's energy balance closes to second order in the step",
   for (const char* safety : {"0.8", "0.4", "0.2"}) {
     const auto dir = fresh_dir("adaptive-order");
     const CommandResult r =
-        run_case(bar("end: 1.0e-5, step: adaptive, safety: " + std::string(safety)), dir);
+        run_case(bar("end: 1.0e-5, step_mode: adaptive, safety: " + std::string(safety)), dir);
     INFO(r.output);
     REQUIRE(r.exit_code == 0);
     const auto s = read_json(dir / "out" / "summary.json");
@@ -140,7 +140,7 @@ TEST_CASE("an adaptive run's energy balance closes to second order in the step",
 
 TEST_CASE("an adaptive run and a restart of it continue bit for bit", "[adaptive_step][restart]") {
   const auto dir = fresh_dir("adaptive-restart");
-  std::string text = bar("steps: 60, step: adaptive");
+  std::string text = bar("steps: 60, step_mode: adaptive");
   text.replace(text.find("history_interval: 10"), 20,
                "history_interval: 10, checkpoint_interval: 30");
   const std::string file = write_file(dir / "case.yaml", text);
@@ -177,20 +177,22 @@ TEST_CASE("an adaptive run and a restart of it continue bit for bit", "[adaptive
   CHECK(lines(dir / "full" / "history.csv") == lines(dir / "part" / "history.csv"));
 }
 
-TEST_CASE("time.step other than fixed or adaptive is refused with its line", "[adaptive_step]") {
-  for (const char* bad : {"step: adaptiv", "step: 3", "step: [adaptive]", "step: true"}) {
+TEST_CASE("time.step_mode other than fixed or adaptive is refused with its line",
+          "[adaptive_step]") {
+  for (const char* bad :
+       {"step_mode: adaptiv", "step_mode: 3", "step_mode: [adaptive]", "step_mode: true"}) {
     const auto dir = fresh_dir("adaptive-bad");
     const CommandResult r = run_case(bar("end: 1.0e-5, " + std::string(bad)), dir);
     INFO(bad << ": " << r.output);
     CHECK(r.exit_code == 2);
     CHECK(r.output.find("case.yaml:12") != std::string::npos);
-    CHECK(r.output.find("time.step") != std::string::npos);
+    CHECK(r.output.find("time.step_mode") != std::string::npos);
     CHECK(r.output.find("fixed (dt for the whole run) or adaptive") != std::string::npos);
     CHECK_FALSE(std::filesystem::exists(dir / "out" / "summary.json"));
   }
   // Written out in full, fixed is today's step.
   const auto a = fresh_dir("adaptive-fixed-explicit"), b = fresh_dir("adaptive-fixed-absent");
   REQUIRE(run_case(bar("steps: 2"), a).exit_code == 3);  // the guard stops both alike
-  REQUIRE(run_case(bar("steps: 2, step: fixed"), b).exit_code == 3);
+  REQUIRE(run_case(bar("steps: 2, step_mode: fixed"), b).exit_code == 3);
   CHECK(lines(a / "out" / "history.csv") == lines(b / "out" / "history.csv"));
 }

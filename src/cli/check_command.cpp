@@ -159,15 +159,16 @@ int check(const CheckOptions& opt) {
             << contact_k << " N/m^4)\n";
   std::cout << "time step: " << s.dt << " s (" << s.safety << " x estimate"
             << (s.user_dt ? ", from the case" : "") << "), " << sim.planned_steps() << " steps\n";
-  std::cout << "step mode: "
-            << (sim.adaptive()
-                    ? "adaptive (time.step: adaptive): after each force evaluation the next step "
-                      "is min(dt, time.safety x the stable step at the current state) for bodies "
-                      "whose strain measure stiffens in compression (m <= 0); the step count is "
-                      "the estimate at dt"
-                    : "fixed (dt for the whole run; bodies with m <= 0 are guarded at the current "
-                      "state after every step)")
-            << "\n";
+  std::cout
+      << "step mode: "
+      << (sim.adaptive()
+              ? "adaptive (time.step_mode: adaptive): after each force evaluation the next step "
+                "is min(dt, time.safety x the stable step at the current state) for bodies "
+                "whose strain measure stiffens in compression (m <= 0); the step count is "
+                "the estimate at dt"
+              : "fixed (dt for the whole run; bodies with m <= 0 are guarded at the current "
+                "state after every step)")
+      << "\n";
   if (std::isfinite(s.speed_step)) std::cout << "  " << contact_speed_note(s) << '\n';
   std::cout << contact_law_report(scene);
   if (opt.ranks > 0) print_decomposition(scene, opt.ranks);

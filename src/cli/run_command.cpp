@@ -74,7 +74,7 @@ void print_setup(const Simulation& sim, std::ostream& os) {
      << s.limiting_point << "), " << (s.user_dt ? "case dt " : "safety ") << s.safety
      << " x estimate -> dt " << s.dt << " s, " << sim.planned_steps() << " steps";
   if (sim.adaptive())
-    os << " at this dt (time.step: adaptive: each step min(dt, safety x the current stable "
+    os << " at this dt (time.step_mode: adaptive: each step min(dt, safety x the current stable "
           "step); the first "
        << sim.step_size(1) << " s)";
   else if (const double last = sim.step_size(sim.planned_steps()); last != s.dt)

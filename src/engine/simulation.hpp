@@ -105,7 +105,7 @@ class Simulation {
   double time() const { return time_; }
   long long step() const { return step_; }
   const StepChoice& step_choice() const { return step_choice_; }
-  // The steps of the run: with `time.step: adaptive` and time.end, the steps taken so far plus
+  // The steps of the run: with `time.step_mode: adaptive` and time.end, the steps taken so far plus
   // those left at the current step (an estimate that grows as the step falls; it equals step()
   // once the run has reached time.end).
   long long planned_steps() const { return planned_steps_; }

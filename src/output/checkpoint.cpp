@@ -304,10 +304,11 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
     c.initial_total = hdf5::read_double_attribute(file, "initial_total");
     const bool adaptive = H5Aexists(file, "adaptive_next_dt") > 0;
     if (adaptive != sim.adaptive())
-      throw CheckpointError(
-          path + ": written by a run with " + (adaptive ? "time.step: adaptive" : "a fixed step") +
-          ", this case has " + (sim.adaptive() ? "time.step: adaptive" : "a fixed step") +
-          " (a restart must keep the step's mode)");
+      throw CheckpointError(path + ": written by a run with " +
+                            (adaptive ? "time.step_mode: adaptive" : "a fixed step") +
+                            ", this case has " +
+                            (sim.adaptive() ? "time.step_mode: adaptive" : "a fixed step") +
+                            " (a restart must keep the step's mode)");
     if (adaptive) {
       c.next_dt = hdf5::read_double_attribute(file, "adaptive_next_dt");
       c.smallest_step = hdf5::read_double_attribute(file, "adaptive_smallest_step");

@@ -159,7 +159,7 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
   j["dt_estimate"] = s.estimate;
   j["dt_safety"] = s.safety;
   j["dt_limited_by"] = {{"body", s.limiting_body}, {"point", s.limiting_point}};
-  // time.step: fixed (dt throughout) or adaptive: the smallest step the current stable step
+  // time.step_mode: fixed (dt throughout) or adaptive: the smallest step the current stable step
   // asked for (dt when none was lower) and how many steps were taken below dt.
   j["step_mode"] = sim.adaptive() ? "adaptive" : "fixed";
   if (sim.adaptive())
