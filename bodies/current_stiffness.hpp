@@ -22,6 +22,14 @@ namespace ckpd {
 // bound[i]: point i's bound (N/m^3/m, as Body::stiffness_bound) at body.displacement, for a
 // body of the CKPD model (any strain measure and force form). Infinite where a set has
 // collapsed (r = 0 with m <= 0).
-void ckpd_current_stiffness_bound(const Body& body, std::vector<double>& bound);
+//
+// shrink_time (optional), for the adaptive step: per point, the time in which the fastest
+// shrinking of its bonds and sets (those the bound counts) would reach zero at the current
+// velocities, min r / (-dr/dt) over those with dr/dt < 0 (+inf: none shrinks).
+void ckpd_current_stiffness_bound(const Body& body, std::vector<double>& bound,
+                                  std::vector<double>* shrink_time = nullptr);
+
+// The same shrink time over a body's intact bonds alone (any model).
+void bond_shrink_time(const Body& body, std::vector<double>& shrink_time);
 
 }  // namespace ckpd

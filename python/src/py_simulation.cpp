@@ -110,6 +110,11 @@ PySimulation::PySimulation(const py::handle& case_source, const py::handle& over
     py::gil_scoped_release release;
     apply_threads();
     scene_ = std::make_unique<Scene>(load_scene(resolved.root, resolved.name, resolved.applied));
+    // run(), run(until=) and end_time count steps of dt; an adaptive step's count is not known.
+    if (scene_->time.adaptive_step)
+      throw py::value_error(
+          "time.step_mode: adaptive is not supported by the Python module (its run(), until= and "
+          "end_time count steps of a fixed dt); run the case with `ckpd run`");
     sim_ = std::make_unique<Simulation>(*scene_);
     if (!restart.empty()) read_checkpoint(restart, *sim_);
   }

@@ -342,6 +342,15 @@ TimeSettings read_time(const CaseNode& t) {
     if (s.safety > 1) f->fail("a safety factor in (0, 1]");
   }
   if (auto a = t.optional("allow_unstable_dt")) s.allow_unstable_dt = a->as_bool();
+  if (auto a = t.optional("step_mode")) {
+    const std::string mode = a->is_scalar() ? a->as_string() : std::string();
+    if (mode == "adaptive")
+      s.adaptive_step = true;
+    else if (mode != "fixed")
+      a->fail(
+          "fixed (dt for the whole run) or adaptive (the step follows the stable step at the "
+          "current state, never above dt)");
+  }
   t.finish();
   return s;
 }

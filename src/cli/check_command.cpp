@@ -159,6 +159,16 @@ int check(const CheckOptions& opt) {
             << contact_k << " N/m^4)\n";
   std::cout << "time step: " << s.dt << " s (" << s.safety << " x estimate"
             << (s.user_dt ? ", from the case" : "") << "), " << sim.planned_steps() << " steps\n";
+  std::cout
+      << "step mode: "
+      << (sim.adaptive()
+              ? "adaptive (time.step_mode: adaptive): after each force evaluation the next step "
+                "is min(dt, time.safety x the stable step at the current state) for bodies "
+                "whose strain measure stiffens in compression (m <= 0); the step count is "
+                "the estimate at dt"
+              : "fixed (dt for the whole run; bodies with m <= 0 are guarded at the current "
+                "state after every step)")
+      << "\n";
   if (std::isfinite(s.speed_step)) std::cout << "  " << contact_speed_note(s) << '\n';
   std::cout << contact_law_report(scene);
   if (opt.ranks > 0) print_decomposition(scene, opt.ranks);
@@ -170,6 +180,7 @@ int check(const CheckOptions& opt) {
     std::cout << "set-up took " << setup << " s; no steps to time\n";
     return 0;
   }
+  const double bound_before = sim.stable_step_seconds();  // the set-up's own evaluation
   const auto t0 = std::chrono::steady_clock::now();
   try {
     // The last timed step checks the energy too: an instability that the speed guard has not
@@ -182,6 +193,13 @@ int check(const CheckOptions& opt) {
   }
   const double per_step =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / steps;
+  if (sim.stable_step_seconds() > bound_before) {
+    std::cout << "  of which " << (sim.stable_step_seconds() - bound_before) / steps
+              << " s per step in the current-state stable-step bound (m <= 0)";
+    if (sim.adaptive())
+      std::cout << "; smallest step so far " << std::min(s.dt, sim.smallest_step()) << " s";
+    std::cout << "\n";
+  }
   const double projected = setup + per_step * static_cast<double>(sim.planned_steps());
   std::cout << "timing: set-up " << setup << " s, " << per_step << " s per step over " << steps
             << " steps at " << omp_get_max_threads() << " threads; projected run time " << projected

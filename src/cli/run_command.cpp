@@ -73,7 +73,11 @@ void print_setup(const Simulation& sim, std::ostream& os) {
   os << "time step: estimate " << s.estimate << " s (body '" << s.limiting_body << "', point "
      << s.limiting_point << "), " << (s.user_dt ? "case dt " : "safety ") << s.safety
      << " x estimate -> dt " << s.dt << " s, " << sim.planned_steps() << " steps";
-  if (const double last = sim.step_size(sim.planned_steps()); last != s.dt)
+  if (sim.adaptive())
+    os << " at this dt (time.step_mode: adaptive: each step min(dt, safety x the current stable "
+          "step); the first "
+       << sim.step_size(1) << " s)";
+  else if (const double last = sim.step_size(sim.planned_steps()); last != s.dt)
     os << " (the last one " << last << " s: the run ends exactly at time.end)";
   os << '\n';
   if (std::isfinite(s.speed_step)) os << "  " << contact_speed_note(s) << '\n';

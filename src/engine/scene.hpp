@@ -40,6 +40,10 @@ struct TimeSettings {
   std::string dt_where;      // "case.yaml:12: time.dt", for errors about the case's dt
   double safety = 0.8;
   bool allow_unstable_dt = false;  // accept a dt above the estimate
+  // `step_mode: adaptive`: after each force evaluation the next step is min(dt, safety x the stable
+  // step at the current state) for bodies whose measure stiffens in compression (Seth-Hill
+  // m <= 0); `step_mode: fixed` (the default): dt for the whole run, with the current-state guard.
+  bool adaptive_step = false;
 };
 
 // A history column group chosen in the case (`output: {history: [...]}`), computed by

@@ -238,9 +238,11 @@ Simulation::Simulation(Scene& scene) : scene_(scene) {
   }
   inverted_.assign(scene_.bodies.size(), 0);
   contact_ = make_contact_manager(scene_);
+  taken_dt_ = step_choice_.dt;
   evaluate_forces(true);
   const Energies e = energies();
   initial_total_ = e.kinetic + e.strain + e.contact;
+  if (adaptive()) plan_next_step(current_step());
 }
 
 void Simulation::evaluate_forces(bool with_energy) {
@@ -308,7 +310,7 @@ void Simulation::evaluate_forces(bool with_energy) {
     contact_point_sets(scene_, point_sets_);
     contact_->rebind(point_sets_);
     // The springs advance over the step just taken; the first evaluation follows none.
-    contact_->add_forces(step_ > 0 ? step_choice_.dt : 0.0);
+    contact_->add_forces(step_ > 0 ? (adaptive() ? taken_dt_ : step_choice_.dt) : 0.0);
   }
   for (SceneBody& sb : scene_.bodies) {
     Body& b = sb.body;
@@ -325,7 +327,49 @@ void Simulation::evaluate_forces(bool with_energy) {
 }
 
 double Simulation::step_size(long long index) const {
+  if (adaptive()) return index <= step_ ? taken_dt_ : next_dt_;
   return index == planned_steps_ && last_dt_ > 0 ? last_dt_ : step_choice_.dt;
+}
+
+double Simulation::next_time() const {
+  if (adaptive())
+    return scene_.time.steps < 0 && step_ + 1 == planned_steps_ ? scene_.time.end_time
+                                                                : time_ + next_dt_;
+  return step_ + 1 == planned_steps_ && last_dt_ > 0
+             ? scene_.time.end_time
+             : origin_time_ + static_cast<double>(step_ + 1 - origin_step_) * step_choice_.dt;
+}
+
+void Simulation::plan_next_step(const CurrentStep& now) {
+  current_stable_ = now.dt;
+  // safety x the current stable step, and the kinematic limit, never above dt (a bound within
+  // rounding of dt keeps dt: at the reference state the current-state bound is the reference
+  // one to rounding).
+  const double bound = std::min(scene_.time.safety * now.dt, now.kinematic);
+  next_choice_ = bound < step_choice_.dt * (1 - 1e-12) ? bound : step_choice_.dt;
+  clip_next_step();
+}
+
+void Simulation::clip_next_step() {
+  next_dt_ = next_choice_;
+  if (scene_.time.steps >= 0) {
+    planned_steps_ = scene_.time.steps;
+    return;
+  }
+  // A run to time.end lands on it: the step that reaches it is the remainder, and a remainder
+  // between one and two steps is split in halves (no sliver of a last step).
+  const double left = scene_.time.end_time - time_;
+  if (!(left > 0)) {
+    planned_steps_ = step_;
+  } else if (left <= next_dt_ * (1 + 1e-9)) {
+    next_dt_ = left;
+    planned_steps_ = step_ + 1;
+  } else if (left < 2 * next_dt_) {
+    next_dt_ = 0.5 * left;
+    planned_steps_ = step_ + 2;
+  } else {
+    planned_steps_ = step_ + static_cast<long long>(std::ceil(left / next_dt_ - 1e-9));
+  }
 }
 
 void Simulation::advance(bool with_energy) {
@@ -346,12 +390,16 @@ void Simulation::advance(bool with_energy) {
 #pragma omp parallel for schedule(static) if (n > parallel_points())
     for (std::size_t i = 0; i < n; ++i) b.displacement[i] += dt * b.velocity[i];
   }
-  time_ = step_ + 1 == planned_steps_ && last_dt_ > 0
-              ? scene_.time.end_time
-              : origin_time_ + static_cast<double>(step_ + 1 - origin_step_) * step_choice_.dt;
+  time_ = next_time();
+  if (adaptive() && next_choice_ < step_choice_.dt) {
+    ++reduced_steps_;
+    smallest_step_ = std::min(smallest_step_, next_choice_);
+  }
   ++step_;
+  taken_dt_ = dt;
   evaluate_forces(with_energy);
-  check_stable_step();  // before the kick: a step past the current stable step is not taken
+  if (!adaptive())
+    check_stable_step();  // before the kick: a step past the current stable step is not taken
   for (std::size_t index = 0; index < scene_.bodies.size(); ++index) {
     SceneBody& sb = scene_.bodies[index];
     Body& b = sb.body;
@@ -421,6 +469,26 @@ void Simulation::advance(bool with_energy) {
       throw TunnellingError(msg.str());
     }
   }
+  if (adaptive()) {
+    // After the kick (the kinematic limit reads the velocities at the end of the step): the
+    // step just taken against the stable step where it ended (a stiffening faster than the
+    // safety margin within one step stops the run, as the fixed step's guard does), then the
+    // next step from it. The kick above completed this step with its own dt / 2, and the next
+    // step's first kick uses the next dt / 2: each step is velocity Verlet with one dt.
+    const CurrentStep now = current_step();
+    if (dt > now.dt && !scene_.time.allow_unstable_dt) {
+      const Body& b = scene_.bodies[now.body].body;
+      std::ostringstream msg;
+      msg << "instability at step " << step_ << ", t = " << time_ << " s: body '" << b.name
+          << "' now has a stable step of " << now.dt << " s at point " << now.point
+          << " (reference " << format_position(b.reference_position[now.point], b.dimension)
+          << "), below the adaptive step just taken, " << dt << " s (time.safety "
+          << scene_.time.safety << " x the stable step where it began): the stable step fell "
+          << "by more than the safety margin within one step; rerun with a lower time.safety";
+      throw InstabilityError(msg.str());
+    }
+    plan_next_step(now);
+  }
   if (with_energy) check_energy();
 }
 
@@ -436,14 +504,36 @@ bool stiffens_in_compression(const Body& b) {
          b.strain_measure <= 0;
 }
 
+double measure_of(const Body& b) {
+  return b.model == &state_based_kernels() ? b.state_based.m : b.strain_measure;
+}
+
+// The adaptive step's kinematic limit: a step in which no bond or set of a body with measure m
+// shrinks by more than a fraction f of itself. A set's share of the stiffness bound grows as its
+// ratio's curvature r^(4m - 2) (the leading term as r -> 0, THEORY.md section 6), so a fall
+// from r to (1 - f) r raises it by (1 - f)^(4m - 2). At time.safety s = 0.8, f = 1 -
+// 0.8^(1 / (2 - 4m)) (0.106 for m = 0, 0.054 for m = -1/2) keeps that to 1 / s = 1.25 per step,
+// half (in log) of the 1 / s^2 = 1.56 that a step at s x the stable step can absorb before the
+// guard trips; f scales with s (halving time.safety halves every limit of the step).
+double shrink_fraction(double m, double safety) {
+  return safety / 0.8 * (1 - std::pow(0.8, 1 / (2 - 4 * m)));
+}
+
 // The stable step of a body at its current displacement (see check_stable_step).
-StableStep current_stable_step(const Body& b, double extra_stiffness) {
-  std::vector<double> k;
+// shrink (optional): the least time in which a bond or set of the body would collapse at the
+// current velocities (current_stiffness.hpp).
+StableStep stable_step_now(const Body& b, double extra_stiffness, double* shrink = nullptr) {
+  std::vector<double> k, t;
   if (b.model == &state_based_kernels()) {
     state_based_stiffness_bound(b, k);
+    if (shrink) bond_shrink_time(b, t);
   } else {
-    ckpd_current_stiffness_bound(b, k);  // bonds, triangles and tetrahedra where they are now
+    // bonds, triangles and tetrahedra where they are now
+    ckpd_current_stiffness_bound(b, k, shrink ? &t : nullptr);
   }
+  if (shrink)
+    *shrink =
+        t.empty() ? std::numeric_limits<double>::infinity() : *std::min_element(t.begin(), t.end());
   StableStep s;
   for (std::size_t i = 0; i < b.size(); ++i) {
     const double total = k[i] + extra_stiffness;
@@ -456,7 +546,28 @@ StableStep current_stable_step(const Body& b, double extra_stiffness) {
 
 }  // namespace
 
-void Simulation::check_stable_step() const {
+Simulation::CurrentStep Simulation::current_step() {
+  const auto start = std::chrono::steady_clock::now();
+  CurrentStep best;
+  for (std::size_t index = 0; index < scene_.bodies.size(); ++index) {
+    const SceneBody& sb = scene_.bodies[index];
+    if (sb.rigid || !stiffens_in_compression(sb.body)) continue;
+    double shrink = std::numeric_limits<double>::infinity();
+    const StableStep now = stable_step_now(sb.body, contact_stiffness_[index], &shrink);
+    if (now.dt < best.dt) {
+      best.dt = now.dt;
+      best.body = index;
+      best.point = now.point;
+    }
+    best.kinematic =
+        std::min(best.kinematic, shrink_fraction(measure_of(sb.body), scene_.time.safety) * shrink);
+  }
+  stable_step_seconds_ +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return best;
+}
+
+void Simulation::check_stable_step() {
   // A guard, not a re-estimate that lowers dt: the step is fixed for the run (the output
   // schedule, time.end's last step and a restart's step/time identity rest on it). A body whose
   // measure stiffens in compression has its stable step estimated at the current state after
@@ -466,7 +577,10 @@ void Simulation::check_stable_step() const {
   for (std::size_t index = 0; index < scene_.bodies.size(); ++index) {
     const SceneBody& sb = scene_.bodies[index];
     if (sb.rigid || !stiffens_in_compression(sb.body)) continue;
-    const StableStep now = current_stable_step(sb.body, contact_stiffness_[index]);
+    const auto start = std::chrono::steady_clock::now();
+    const StableStep now = stable_step_now(sb.body, contact_stiffness_[index]);
+    stable_step_seconds_ +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double dt = step_choice_.dt;
     if (dt <= now.dt) continue;
     const Body& b = sb.body;
@@ -519,13 +633,30 @@ void Simulation::check_energy() const {
 }
 
 Simulation::Counters Simulation::counters() const {
-  return {time_,          step_,          external_work_,   dissipated_,
-          strain_energy_, initial_total_, initially_failed_};
+  Counters c{time_,          step_,          external_work_,   dissipated_,
+             strain_energy_, initial_total_, initially_failed_};
+  c.next_dt = next_choice_;
+  c.smallest_step = smallest_step_;
+  c.reduced_steps = reduced_steps_;
+  return c;
 }
 
 void Simulation::restore(const Counters& c) {
   time_ = c.time;
   step_ = c.step;
+  if (adaptive()) {
+    // The next step as the run chose it; clipped again, so that a later time.end continues.
+    next_choice_ = c.next_dt;
+    smallest_step_ = c.smallest_step;
+    reduced_steps_ = c.reduced_steps;
+    clip_next_step();
+    external_work_ = c.external_work;
+    dissipated_ = c.dissipated;
+    strain_energy_ = c.strain_energy;
+    initial_total_ = c.initial_total;
+    initially_failed_ = c.initially_failed;
+    return;
+  }
   // Steps after a restart count from the checkpoint when its time ended a shortened last step
   // (a later time.end); otherwise from 0 as in the run it continues (bit for bit).
   const bool on_grid = c.time == static_cast<double>(c.step) * step_choice_.dt;

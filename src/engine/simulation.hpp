@@ -105,10 +105,25 @@ class Simulation {
   double time() const { return time_; }
   long long step() const { return step_; }
   const StepChoice& step_choice() const { return step_choice_; }
+  // The steps of the run: with `time.step_mode: adaptive` and time.end, the steps taken so far plus
+  // those left at the current step (an estimate that grows as the step falls; it equals step()
+  // once the run has reached time.end).
   long long planned_steps() const { return planned_steps_; }
   // The size of step `index` (1-based): dt, except a run to time.end whose last step is the
-  // remainder (0 < it <= dt), so that the run ends exactly at time.end.
+  // remainder (0 < it <= dt), so that the run ends exactly at time.end. With an adaptive step:
+  // the step just taken for index step(), the next one for any later index.
   double step_size(long long index) const;
+  // The time after the next step (the time of a run's next output).
+  double next_time() const;
+  bool adaptive() const { return scene_.time.adaptive_step; }
+  // Adaptive steps: the smallest step the stable step asked for (+inf: none so far), how many
+  // steps were taken below dt, and the stable step at the current state when last evaluated
+  // (+inf: no body stiffens in compression).
+  double smallest_step() const { return smallest_step_; }
+  long long reduced_steps() const { return reduced_steps_; }
+  double current_stable_step() const { return current_stable_; }
+  // Seconds spent in the current-state stable-step bound (the guard or the adaptive step).
+  double stable_step_seconds() const { return stable_step_seconds_; }
   // Energies as of the last evaluation with energy (kinetic and work are always current).
   Energies energies() const;
   // Evaluates the strain energy (and the inverted-set counts) at the current positions, for a
@@ -138,6 +153,10 @@ class Simulation {
     long long step = 0;
     double external_work = 0, dissipated = 0, strain_energy = 0, initial_total = 0;
     std::vector<std::size_t> initially_failed;
+    // Adaptive step only (checkpoints of fixed-step runs do not hold them): the next step's
+    // size, the smallest step asked for, the steps taken below dt.
+    double next_dt = 0, smallest_step = std::numeric_limits<double>::infinity();
+    long long reduced_steps = 0;
   };
   Counters counters() const;
   void restore(const Counters& counters);
@@ -155,7 +174,21 @@ class Simulation {
   // For bodies whose strain measure stiffens in compression (m <= 0): the stable step at the
   // current state against dt, after every force evaluation (throws InstabilityError when dt
   // exceeds it).
-  void check_stable_step() const;
+  void check_stable_step();
+  // The smallest current-state stable step over the bodies that stiffen in compression (with
+  // their contact stiffness), and where: +inf when there are none.
+  struct CurrentStep {
+    double dt = std::numeric_limits<double>::infinity();
+    std::size_t body = 0, point = 0;
+    // The adaptive step's kinematic limit (simulation.cpp shrink_fraction): +inf when nothing
+    // shrinks.
+    double kinematic = std::numeric_limits<double>::infinity();
+  };
+  CurrentStep current_step();
+  // Adaptive step: the size of the next step from the current stable step, clipped so that a
+  // run to time.end lands on it; updates planned_steps_.
+  void plan_next_step(const CurrentStep& now);
+  void clip_next_step();  // next_dt_ and planned_steps_ from next_choice_ and the time left
 
   Scene& scene_;
   StepChoice step_choice_;
@@ -180,6 +213,13 @@ class Simulation {
   std::vector<double> contact_radius_;
   std::unique_ptr<ContactManager> contact_;
   double body_force_seconds_ = 0;
+  double stable_step_seconds_ = 0;
+  // Adaptive step: the next step, the one just taken, and the statistics (see smallest_step()).
+  double next_choice_ = 0;  // min(dt, safety x current stable step), before clip_next_step
+  double next_dt_ = 0, taken_dt_ = 0;
+  double smallest_step_ = std::numeric_limits<double>::infinity();
+  long long reduced_steps_ = 0;
+  double current_stable_ = std::numeric_limits<double>::infinity();
   // evaluate_forces' per-body buffers, kept between steps: a time step allocates nothing
   // (tests/allocation/).
   std::vector<double> step_dissipated_, step_strain_;

@@ -57,7 +57,7 @@ class ContentHash {
   std::uint64_t h_ = 1469598103934665603ull;
 };
 
-void hash_counters(ContentHash& h, double dt, const Simulation::Counters& c) {
+void hash_counters(ContentHash& h, double dt, const Simulation::Counters& c, bool adaptive) {
   h.value(dt);
   h.value(c.time);
   h.value(c.step);
@@ -65,6 +65,11 @@ void hash_counters(ContentHash& h, double dt, const Simulation::Counters& c) {
   h.value(c.dissipated);
   h.value(c.strain_energy);
   h.value(c.initial_total);
+  if (adaptive) {  // a fixed-step checkpoint hashes as before
+    h.value(c.next_dt);
+    h.value(c.smallest_step);
+    h.value(c.reduced_steps);
+  }
 }
 
 void hash_body(ContentHash& h, const Body& body, std::size_t initially_failed) {
@@ -169,7 +174,7 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
                 "create " + temp);
     const Simulation::Counters c = sim.counters();
     ContentHash hash;
-    hash_counters(hash, sim.step_choice().dt, c);
+    hash_counters(hash, sim.step_choice().dt, c, sim.adaptive());
     hdf5::write_string_attribute(file, "format", kFormat);
     hdf5::write_string_attribute(file, "case_fingerprint", sim.scene().fingerprint);
     hdf5::write_string_attribute(file, "case_physics", sim.scene().physics);
@@ -180,6 +185,13 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
     hdf5::write_double_attribute(file, "dissipated", c.dissipated);
     hdf5::write_double_attribute(file, "strain_energy", c.strain_energy);
     hdf5::write_double_attribute(file, "initial_total", c.initial_total);
+    if (sim.adaptive()) {
+      // The adaptive step's own counters: the next step (as chosen, before a clip to time.end),
+      // the smallest step and the steps below dt (smallest_step is +inf before any).
+      hdf5::write_double_attribute(file, "adaptive_next_dt", c.next_dt);
+      hdf5::write_double_attribute(file, "adaptive_smallest_step", c.smallest_step);
+      hdf5::write_int64_attribute(file, "adaptive_reduced_steps", c.reduced_steps);
+    }
     hdf5::write_int64_attribute(file, "bodies", static_cast<long long>(sim.scene().bodies.size()));
     for (std::size_t b = 0; b < sim.scene().bodies.size(); ++b) {
       const Body& body = sim.scene().bodies[b].body;
@@ -290,6 +302,23 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
     c.dissipated = hdf5::read_double_attribute(file, "dissipated");
     c.strain_energy = hdf5::read_double_attribute(file, "strain_energy");
     c.initial_total = hdf5::read_double_attribute(file, "initial_total");
+    const bool adaptive = H5Aexists(file, "adaptive_next_dt") > 0;
+    if (adaptive != sim.adaptive())
+      throw CheckpointError(path + ": written by a run with " +
+                            (adaptive ? "time.step_mode: adaptive" : "a fixed step") +
+                            ", this case has " +
+                            (sim.adaptive() ? "time.step_mode: adaptive" : "a fixed step") +
+                            " (a restart must keep the step's mode)");
+    if (adaptive) {
+      c.next_dt = hdf5::read_double_attribute(file, "adaptive_next_dt");
+      c.smallest_step = hdf5::read_double_attribute(file, "adaptive_smallest_step");
+      c.reduced_steps = hdf5::read_int64_attribute(file, "adaptive_reduced_steps");
+      if (!(c.next_dt > 0 && c.next_dt <= dt) || !(c.smallest_step > 0) || c.reduced_steps < 0 ||
+          c.reduced_steps > std::max(c.step, 0LL))
+        throw CheckpointError(path + ": adaptive step counters (next step " +
+                              format_seconds(c.next_dt) + " s, " + std::to_string(c.reduced_steps) +
+                              " reduced steps) that no run gives (corrupted checkpoint)");
+    }
     // Value checks before the hash: they name what is wrong.
     require_finite(path, "the time", c.time);
     require_finite(path, "the external work", c.external_work);
@@ -298,14 +327,16 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
     require_finite(path, "the initial total energy", c.initial_total);
     // The time is the sum of `step` steps of dt, up to round-off, except that the last step of a
     // run may be shortened to land on time.end: (step - 1) dt < time <= step dt.
+    // With an adaptive step, each step is at most dt: 0 < time <= step dt.
     const double full = static_cast<double>(c.step) * dt, slack = 1e-6 * std::max(c.time, dt);
     if (c.step < 0 || !(c.time >= 0) || c.time > full + slack ||
-        (c.step > 0 && c.time <= full - dt - slack))
+        (!adaptive && c.step > 0 && c.time <= full - dt - slack) ||
+        (adaptive && c.step > 0 && !(c.time > 0)))
       throw CheckpointError(
           path + ": step " + std::to_string(c.step) + " and time " + format_seconds(c.time) +
           " s do not agree with dt = " + format_seconds(dt) + " s (corrupted checkpoint)");
     ContentHash hash;
-    hash_counters(hash, dt, c);
+    hash_counters(hash, dt, c, adaptive);
     for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
       Body& body = scene.bodies[b].body;
       Handle group(H5Gopen2(file, ("body_" + std::to_string(b)).c_str(), H5P_DEFAULT), H5Gclose,

@@ -86,7 +86,7 @@ void ProgressReporter::energy_evaluated(const Simulation& sim) {
 ProgressState ProgressReporter::state(const Simulation& sim) const {
   ProgressState p;
   p.step = sim.step();
-  p.total = total_;
+  p.total = sim.adaptive() ? sim.planned_steps() : total_;  // an adaptive step's estimate
   p.time = sim.time();
   p.elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   p.rate = p.elapsed > 0 ? static_cast<double>(sim.step() - start_step_) / p.elapsed : 0.0;
@@ -99,7 +99,7 @@ ProgressState ProgressReporter::state(const Simulation& sim) const {
 void ProgressReporter::update(const Simulation& sim) {
   if (start_step_ < 0) start_step_ = sim.step() - 1;
   const auto now = std::chrono::steady_clock::now();
-  const bool last = sim.step() >= total_;
+  const bool last = sim.step() >= (sim.adaptive() ? sim.planned_steps() : total_);
   const auto plain_every = std::chrono::seconds(10);
   if (log_ && (now - last_log_ >= plain_every || last)) {
     last_log_ = now;

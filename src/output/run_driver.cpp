@@ -73,10 +73,12 @@ void RunDriver::log(const std::string& line) {
 void RunDriver::step(bool with_energy) {
   if (finished()) throw std::logic_error("RunDriver::step: the run has reached its last step");
   const long long next = sim_.step() + 1;
-  const bool last = next == total_;
+  const bool last = next == total_steps();
   const bool row = next % interval_ == 0 || last;
   const double dt = sim_.step_choice().dt;
-  const bool frame = frame_due(next, static_cast<double>(next) * dt) || (fields_ && last);
+  // An adaptive step's time is its own sum of steps (the time after the next step).
+  const double next_time = sim_.adaptive() ? sim_.next_time() : static_cast<double>(next) * dt;
+  const bool frame = frame_due(next, next_time) || (fields_ && last);
   const bool energy = with_energy || row || (frame && fields_->needs_energy());
   sim_.advance(energy);
   if (energy) progress_.energy_evaluated(sim_);

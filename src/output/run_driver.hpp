@@ -36,8 +36,10 @@ class RunDriver {
   // std::runtime_error naming a path that cannot be written.
   RunDriver(Simulation& sim, RunDriverOptions options);
 
-  long long total_steps() const { return total_; }
-  bool finished() const { return sim_.step() >= total_; }
+  // The run's steps: fixed, or with an adaptive step the current estimate
+  // (Simulation::planned_steps).
+  long long total_steps() const { return sim_.adaptive() ? sim_.planned_steps() : total_; }
+  bool finished() const { return sim_.step() >= total_steps(); }
   // One step and the output due after it. `with_energy` also evaluates the strain energy when
   // no output needs it (a caller that reads the energies after this step). Throws
   // InstabilityError (or TunnellingError) from the step; call stop() then.

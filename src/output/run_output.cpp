@@ -159,6 +159,18 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
   j["dt_estimate"] = s.estimate;
   j["dt_safety"] = s.safety;
   j["dt_limited_by"] = {{"body", s.limiting_body}, {"point", s.limiting_point}};
+  // time.step_mode: fixed (dt throughout) or adaptive: the smallest step the current stable step
+  // asked for (dt when none was lower) and how many steps were taken below dt.
+  j["step_mode"] = sim.adaptive() ? "adaptive" : "fixed";
+  if (sim.adaptive())
+    j["adaptive_step"] = {
+        {"smallest_step", std::min(s.dt, sim.smallest_step())},
+        {"reduced_steps", sim.reduced_steps()},
+        {"next_step", sim.step_size(sim.step() + 1)},
+        {"current_stable_step", std::isfinite(sim.current_stable_step())
+                                    ? nlohmann::ordered_json(sim.current_stable_step())
+                                    : nlohmann::ordered_json(nullptr)},
+        {"stable_step_seconds", sim.stable_step_seconds()}};
   // The contact speed bound (null without contact or motion) and whether dt was lowered to it.
   j["dt_contact_speed_bound"] = std::isfinite(s.speed_step)
                                     ? nlohmann::ordered_json{{"dt", s.speed_step},
