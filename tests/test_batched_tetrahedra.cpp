@@ -108,7 +108,7 @@ TEST_CASE("batched tetrahedra equal the reference kernel in every force form and
 TEST_CASE("the pairs' tetrahedron counts leave every remainder modulo the batch width",
           "[batched_tetrahedra]") {
   // For each pair (a, b) of an upper family (a < b bonded), the candidates c > b bonded to both:
-  // the batch sees them in blocks of 4 slots. On the test bodies above both the counts and the
+  // the batch sees them in blocks of 4 slots. On a test body above both the counts and the
   // blocks' fill take every value, so remainders and partly filled blocks are exercised.
   std::mt19937 rng(4711);
   const Scene s{"3D lattice nu=0.3", 3, 0.3, 0.0, 7, 6, 6};
@@ -127,16 +127,22 @@ TEST_CASE("the pairs' tetrahedron counts leave every remainder modulo the batch 
     for (std::size_t a = 0; a < up.size(); ++a)
       for (std::size_t b = a + 1; b < up.size(); ++b) {
         if (!bonded(up[a], up[b])) continue;
-        std::size_t count = 0;
-        std::vector<std::size_t> per_block(up.size() / 4 + 1, 0);
+        // The candidates in slot order, then the blocks as the kernel forms them: 4 slots from
+        // the lowest candidate not yet covered.
+        std::vector<std::size_t> cands;
         for (std::size_t c = b + 1; c < up.size(); ++c)
-          if (bonded(up[a], up[c]) && bonded(up[b], up[c])) {
-            ++count;
-            ++per_block[c / 4];
+          if (bonded(up[a], up[c]) && bonded(up[b], up[c])) cands.push_back(c);
+        const std::size_t count = cands.size();
+        for (std::size_t n = 0; n < count;) {
+          std::size_t fill = 0;
+          const std::size_t c0 = cands[n];
+          while (n < count && cands[n] < c0 + 4) {
+            ++fill;
+            ++n;
           }
+          fills.insert(fill);
+        }
         remainders.insert(count % 4);
-        for (const std::size_t n : per_block)
-          if (n > 0) fills.insert(n);
       }
   }
   CHECK(remainders == std::set<std::size_t>{0, 1, 2, 3});

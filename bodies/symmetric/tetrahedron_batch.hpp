@@ -1,9 +1,11 @@
 #pragma once
 // Batched tetrahedra (docs/PERFORMANCE.md, "Batched tetrahedra in the kernel"): the tetrahedra
 // {i, a, b, c} of one pair whose four vertices are all active, evaluated 4 slots c at a time.
-// Each 4-slot block of a candidate word with any such c is evaluated whole: contiguous loads of
-// the slots' offsets and weights, every lane computed, the lanes without a tetrahedron (or, on
-// the general path, with an ill-conditioned one) masked to f = 0 and en = 0; no gather. Built
+// A block is the 4 slots from the lowest such c not yet done (c0 = that c: blocks start at a
+// candidate, not at a multiple of 4, which covers a word's candidates with fewer blocks; the
+// per-slot arrays are padded past the last word, context.hpp), evaluated whole: contiguous loads
+// of the slots' offsets and weights, every lane computed, the lanes without a tetrahedron (or,
+// on the general path, with an ill-conditioned one) masked to f = 0 and en = 0; no gather. Built
 // when the compiler targets AVX2 (one 256-bit register of 4 doubles; GCC vector extensions);
 // other builds, and the Seth-Hill measures other than m = 1/2 (their log1p/expm1 per set), keep
 // the scalar loop. Per tetrahedron the lanes compute what the scalar loop computes, operation
