@@ -25,12 +25,19 @@
 
 namespace ckpd::symmetric {
 
-// Slots per batch (0: no batched path in this build).
-#if defined(CKPD_BATCHED_TETRAHEDRA)
-inline constexpr int kTetrahedronBatch = 4;
+// Slots per batch (0: no batched path in this build). CKPD_TETRAHEDRON_BATCH=8 (AVX-512 builds
+// only) selects blocks of 8, measured against 4 in docs/PERFORMANCE.md.
+#if defined(CKPD_BATCHED_TETRAHEDRA) && defined(CKPD_TETRAHEDRON_BATCH) && \
+    CKPD_TETRAHEDRON_BATCH == 8 && defined(__AVX512F__)
+#define CKPD_TETRAHEDRON_LANES 8
+#elif defined(CKPD_BATCHED_TETRAHEDRA)
+#define CKPD_TETRAHEDRON_LANES 4
 #else
-inline constexpr int kTetrahedronBatch = 0;
+#define CKPD_TETRAHEDRON_LANES 0
 #endif
+inline constexpr int kTetrahedronBatch = CKPD_TETRAHEDRON_LANES;
+// The lanes of a block as bits.
+inline constexpr std::uint64_t kBatchLanes = (std::uint64_t{1} << kTetrahedronBatch) - 1;
 
 // Whether a model's linear-strain law (e = r - 1) is the one the batch evaluates.
 template <class Model>
@@ -53,8 +60,9 @@ constexpr bool batched_tetrahedra() {
 
 namespace batch {
 
-using d4 = double __attribute__((vector_size(32)));
-using i4 = std::int64_t __attribute__((vector_size(32)));
+constexpr int kW = kTetrahedronBatch;
+using d4 = double __attribute__((vector_size(8 * kW)));
+using i4 = std::int64_t __attribute__((vector_size(8 * kW)));
 
 inline d4 load(const double* p) {
   d4 v;
@@ -65,20 +73,30 @@ inline void store(double* p, d4 v) {
   std::memcpy(p, &v, sizeof v);
 }
 inline d4 splat(double x) {
-  return d4{x, x, x, x};
+  return d4{} + x;
 }
 // Lane l is all ones where bit l of `bits` is set.
 inline i4 lanes(unsigned bits) {
-  const i4 bit = {1, 2, 4, 8};
-  const std::int64_t b = bits;
-  return (i4{b, b, b, b} & bit) != 0;
+  i4 bit;
+  for (int l = 0; l < kW; ++l) bit[l] = std::int64_t{1} << l;
+  return ((i4{} + static_cast<std::int64_t>(bits)) & bit) != 0;
 }
 // The lanes of a mask as bits.
 inline unsigned bits(i4 mask) {
+#if CKPD_TETRAHEDRON_LANES == 4
   return static_cast<unsigned>(_mm256_movemask_pd(reinterpret_cast<__m256d>(mask)));
+#else
+  return static_cast<unsigned>(
+      _mm512_cmpneq_epi64_mask(reinterpret_cast<__m512i>(mask), _mm512_setzero_si512()));
+#endif
 }
+// Sum over the lanes, in pairs.
 inline double sum(d4 v) {
+#if CKPD_TETRAHEDRON_LANES == 4
   return (v[0] + v[1]) + (v[2] + v[3]);
+#else
+  return ((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7]));
+#endif
 }
 inline d4 abs(d4 v) {
   return v < 0 ? -v : v;
@@ -91,12 +109,14 @@ inline d4 sign(d4 v) {
 // The signed 1 / V of the lanes in `tb` (bit l: slot c0 + l is a triple of the stencil row) from
 // the row's packed entries starting at `packed`; 0 in the other lanes.
 inline d4 expand(const double* packed, unsigned tb) {
-#if defined(__AVX512F__) && defined(__AVX512VL__)
+#if CKPD_TETRAHEDRON_LANES == 8
+  return reinterpret_cast<d4>(_mm512_maskz_expandloadu_pd(static_cast<__mmask8>(tb), packed));
+#elif defined(__AVX512F__) && defined(__AVX512VL__)
   return reinterpret_cast<d4>(_mm256_maskz_expandloadu_pd(static_cast<__mmask8>(tb), packed));
 #else
   d4 v = splat(0.0);
   int k = 0;
-  for (int l = 0; l < 4; ++l)
+  for (int l = 0; l < kW; ++l)
     if ((tb >> l) & 1) v[l] = packed[k++];
   return v;
 #endif
@@ -220,7 +240,7 @@ inline d4 stencil_inverse(const LatticeStencil& st, std::uint64_t row, std::size
                           unsigned s0) {
   const std::uint64_t below = s0 == 0 ? 0 : row & ((std::uint64_t{1} << s0) - 1);
   return expand(&st.inv_volume[word_triple + static_cast<std::size_t>(std::popcount(below))],
-                static_cast<unsigned>((row >> s0) & 15));
+                static_cast<unsigned>((row >> s0) & kBatchLanes));
 }
 
 }  // namespace batch

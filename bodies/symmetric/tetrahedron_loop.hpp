@@ -157,8 +157,8 @@ inline void tetrahedron_loop(const Context<Model>& ctx, SymmetricKernelThread& t
       std::uint64_t ill_word = 0;  // ill-conditioned or degenerate: one by one below
       while (full) {
         const unsigned s0 = static_cast<unsigned>(std::countr_zero(full));
-        const unsigned live = static_cast<unsigned>((full >> s0) & 15);
-        full &= ~(std::uint64_t{15} << s0);
+        const unsigned live = static_cast<unsigned>((full >> s0) & kBatchLanes);
+        full &= ~(kBatchLanes << s0);
         const std::size_t c0 = wc * 64 + s0;
         batch::d4 signed_ref;
         if constexpr (kStencil) {
