@@ -11,6 +11,8 @@
 // the scalar loop. Per tetrahedron the lanes compute what the scalar loop computes, operation
 // for operation; only the order of the sums over c (S, F, E: per lane, then across lanes)
 // differs.
+#include <array>
+#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
@@ -106,6 +108,23 @@ inline d4 sign(d4 v) {
   const d4 one = splat(1.0), zero = splat(0.0);
   return v > 0 ? one : (v < 0 ? -one : zero);
 }
+#if CKPD_TETRAHEDRON_LANES == 4 && !(defined(__AVX512F__) && defined(__AVX512VL__))
+// For each 4-bit tb, the 32-bit source elements of each lane of the expand below: lane l takes
+// packed entry rank(l) = popcount(tb below l) (lanes outside tb: entry 0, zeroed after).
+struct alignas(32) ExpandOrder : std::array<std::int32_t, 8> {};
+inline constexpr std::array<ExpandOrder, 16> kExpandOrder = [] {
+  std::array<ExpandOrder, 16> t{};
+  for (unsigned tb = 0; tb < 16; ++tb) {
+    int rank = 0;
+    for (int l = 0; l < 4; ++l) {
+      const int src = (tb >> l) & 1 ? rank++ : 0;
+      t[tb][static_cast<std::size_t>(2 * l)] = 2 * src;
+      t[tb][static_cast<std::size_t>(2 * l + 1)] = 2 * src + 1;
+    }
+  }
+  return t;
+}();
+#endif
 // The signed 1 / V of the lanes in `tb` (bit l: slot c0 + l is a triple of the stencil row) from
 // the row's packed entries starting at `packed`; 0 in the other lanes.
 inline d4 expand(const double* packed, unsigned tb) {
@@ -114,11 +133,15 @@ inline d4 expand(const double* packed, unsigned tb) {
 #elif defined(__AVX512F__) && defined(__AVX512VL__)
   return reinterpret_cast<d4>(_mm256_maskz_expandloadu_pd(static_cast<__mmask8>(tb), packed));
 #else
-  d4 v = splat(0.0);
-  int k = 0;
-  for (int l = 0; l < kW; ++l)
-    if ((tb >> l) & 1) v[l] = packed[k++];
-  return v;
+  // AVX2: the popcount(tb) packed entries loaded (masked: nothing read past them), then moved
+  // to their lanes by a permutation per tb, the other lanes zeroed; no branch.
+  const int n = std::popcount(tb);
+  const __m256i first = _mm256_cmpgt_epi64(_mm256_set1_epi64x(n), _mm256_setr_epi64x(0, 1, 2, 3));
+  const __m256d loaded = _mm256_maskload_pd(packed, first);
+  const __m256i order =
+      _mm256_load_si256(reinterpret_cast<const __m256i*>(kExpandOrder[tb & 15].data()));
+  const __m256d moved = _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(loaded), order));
+  return reinterpret_cast<d4>(_mm256_and_pd(moved, reinterpret_cast<__m256d>(lanes(tb))));
 #endif
 }
 
