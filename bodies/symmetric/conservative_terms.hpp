@@ -201,8 +201,10 @@ inline void triangle_term_conservative(const Context<Model>& ctx, SymmetricKerne
 }
 
 template <class Model, bool kEnergy, bool kPenalty, bool kStencil>
-inline void tetrahedron_loop_conservative(const Context<Model>& ctx, SymmetricKernelThread& t,
-                                          Centre& centre, const Pair& pr) {
+CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop_conservative(const Context<Model>& ctx,
+                                                                       SymmetricKernelThread& t,
+                                                                       Centre& centre,
+                                                                       const Pair& pr) {
   const Model& model = ctx.model;
   const Body& body = *ctx.body;
   const LatticeStencil* st = ctx.stencil;

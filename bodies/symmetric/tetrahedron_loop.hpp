@@ -14,8 +14,9 @@
 namespace ckpd::symmetric {
 
 template <class Model, bool kEnergy, bool kPenalty, bool kStencil>
-inline void tetrahedron_loop(const Context<Model>& ctx, SymmetricKernelThread& t, Centre& centre,
-                             const Pair& pr) {
+CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop(const Context<Model>& ctx,
+                                                          SymmetricKernelThread& t, Centre& centre,
+                                                          const Pair& pr) {
   const Model& model = ctx.model;
   const Body& body = *ctx.body;
   const LatticeStencil* st = ctx.stencil;
