@@ -13,6 +13,7 @@
 // second, the speed-up of the fast kernel and its thread scaling, and the largest difference
 // between the two kernels relative to the largest force.
 #include <omp.h>
+#include <time.h>
 
 #include <algorithm>
 #include <chrono>
@@ -144,21 +145,46 @@ ckpd::Body lattice_body(const Options& o) {
 
 struct Timing {
   double median = 0, min = 0, max = 0;
+  double cpu = 0;  // median CPU time of the process (all threads) per evaluation, ms
+};
+
+// CPU time of the whole process (every thread), ms: unlike the wall clock, not lengthened by
+// other processes' load on a shared machine (it still counts OpenMP's spinning at barriers).
+double process_cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
+}
+
+double median_of(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t k = v.size();
+  return k % 2 ? v[k / 2] : 0.5 * (v[k / 2 - 1] + v[k / 2]);
+}
+
+struct Samples {
+  std::vector<double> ms, cpu;
+  template <class Fn>
+  void once(Fn&& fn) {
+    const double c0 = process_cpu_ms();
+    const auto t0 = std::chrono::steady_clock::now();
+    fn();
+    const auto t1 = std::chrono::steady_clock::now();
+    cpu.push_back(process_cpu_ms() - c0);
+    ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+  }
+  Timing summary() const {
+    return {median_of(ms), *std::min_element(ms.begin(), ms.end()),
+            *std::max_element(ms.begin(), ms.end()), median_of(cpu)};
+  }
 };
 
 template <class Fn>
 Timing time_runs(int reps, Fn&& fn) {
   fn();  // warm-up: first-touch of the scratch and the caches
-  std::vector<double> ms;
-  for (int r = 0; r < reps; ++r) {
-    const auto t0 = std::chrono::steady_clock::now();
-    fn();
-    const auto t1 = std::chrono::steady_clock::now();
-    ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-  }
-  std::sort(ms.begin(), ms.end());
-  const std::size_t k = ms.size();
-  return {k % 2 ? ms[k / 2] : 0.5 * (ms[k / 2 - 1] + ms[k / 2]), ms.front(), ms.back()};
+  Samples s;
+  for (int r = 0; r < reps; ++r) s.once(fn);
+  return s.summary();
 }
 
 // Times two functions in alternating runs (a, b, a, b, ...) after a warm-up of each.
@@ -166,22 +192,12 @@ template <class FnA, class FnB>
 std::pair<Timing, Timing> time_alternately(int reps, FnA&& a, FnB&& b) {
   a();
   b();
-  std::vector<double> ma, mb;
-  auto once = [](auto&& fn) {
-    const auto t0 = std::chrono::steady_clock::now();
-    fn();
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  };
+  Samples sa, sb;
   for (int r = 0; r < reps; ++r) {
-    ma.push_back(once(a));
-    mb.push_back(once(b));
+    sa.once(a);
+    sb.once(b);
   }
-  auto summary = [](std::vector<double> ms) {
-    std::sort(ms.begin(), ms.end());
-    const std::size_t k = ms.size();
-    return Timing{k % 2 ? ms[k / 2] : 0.5 * (ms[k / 2 - 1] + ms[k / 2]), ms.front(), ms.back()};
-  };
-  return {summary(ma), summary(mb)};
+  return {sa.summary(), sb.summary()};
 }
 
 }  // namespace
@@ -269,6 +285,8 @@ int main(int argc, char** argv) {
         "interactions/s equivalent, %.3g %s/s\n",
         fast.median, fast.min, fast.max, ordered / (fast.median * 1e-3), three ? 3 : 2,
         sets / (fast.median * 1e-3), set_name);
+    std::printf("  fast       %9.1f ms CPU/step (all threads)  %.3g %s/s per core of CPU time\n",
+                fast.cpu, sets / (fast.cpu * 1e-3), set_name);
     if (body.stencil) {
       double diff = 0, scale = 0;
       for (std::size_t i = 0; i < body.size(); ++i) {
@@ -280,6 +298,10 @@ int main(int argc, char** argv) {
           "stencil\n  stencil gain %7.2fx (general / stencil, alternating runs), "
           "|difference| / max force %.1e\n",
           slow.median, slow.min, slow.max, slow.median / fast.median, diff / scale);
+      std::printf(
+          "  general    %9.1f ms CPU/step (all threads)  %.3g %s/s per core of CPU time; "
+          "stencil gain in CPU time %.2fx\n",
+          slow.cpu, sets / (slow.cpu * 1e-3), set_name, slow.cpu / fast.cpu);
     }
     if (!reference.empty()) {
       std::printf("  speed-up   %9.2fx\n", ref_ms.back() / fast.median);

@@ -8,6 +8,7 @@
 // per unit force weight. Energies are the own-family shares, as in the own-family pieces (their
 // volume-weighted sum is the energy E whose gradient the forces are).
 #include "bodies/symmetric/pair.hpp"
+#include "bodies/symmetric/tetrahedron_batch.hpp"
 
 namespace ckpd::symmetric {
 
@@ -200,8 +201,10 @@ inline void triangle_term_conservative(const Context<Model>& ctx, SymmetricKerne
 }
 
 template <class Model, bool kEnergy, bool kPenalty, bool kStencil>
-inline void tetrahedron_loop_conservative(const Context<Model>& ctx, SymmetricKernelThread& t,
-                                          Centre& centre, const Pair& pr) {
+CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop_conservative(const Context<Model>& ctx,
+                                                                       SymmetricKernelThread& t,
+                                                                       Centre& centre,
+                                                                       const Pair& pr) {
   const Model& model = ctx.model;
   const Body& body = *ctx.body;
   const LatticeStencil* st = ctx.stencil;
@@ -305,6 +308,10 @@ inline void tetrahedron_loop_conservative(const Context<Model>& ctx, SymmetricKe
   };
   const std::uint64_t* triple_row = kStencil ? &st->triple_row[pr.number * W] : nullptr;
   std::size_t triple_rank = kStencil ? st->triple_base[pr.number] : 0;
+#if defined(CKPD_BATCHED_TETRAHEDRA)
+  const batch::Geometry geometry(Rx, Ry, Rz, rx, ry, rz, pq, RPQ);
+  double E = 0;  // energy of the sets active for all four vertices (batched)
+#endif
   for (std::size_t wc = b >> 6; wc < W; ++wc) {
     std::uint64_t cand;
     std::size_t word_triple = 0;
@@ -322,7 +329,51 @@ inline void tetrahedron_loop_conservative(const Context<Model>& ctx, SymmetricKe
     std::uint64_t mi = pr.act_i ? own[wc] : 0, mj = pr.act_j ? ia[wc] : 0,
                   mk = pr.act_k ? ib[wc] : 0;
     if (ctx.all_edges) mi = mj = mk = ml;
-    for (std::uint64_t todo = cand & (mi | mj | mk | ml); todo; todo &= todo - 1) {
+    std::uint64_t todo = cand & (mi | mj | mk | ml);
+#if defined(CKPD_BATCHED_TETRAHEDRA)
+    if constexpr (batched_tetrahedra<Model>()) {
+      // The sets active for all four vertices in blocks of 4 slots (tetrahedron_batch.hpp), the
+      // others one by one below.
+      std::uint64_t full = todo & mi & mj & mk & ml;
+      todo &= ~full;
+      batch::Sums sums;
+      std::uint64_t ill_word = 0;  // ill-conditioned or degenerate: one by one below
+      while (full) {
+        const unsigned s0 = static_cast<unsigned>(std::countr_zero(full));
+        const unsigned live = static_cast<unsigned>((full >> s0) & kBatchLanes);
+        full &= ~(kBatchLanes << s0);
+        const std::size_t c0 = wc * 64 + s0;
+        batch::d4 signed_ref;
+        if constexpr (kStencil) {
+          signed_ref = batch::stencil_inverse(*st, triple_row[wc], word_triple, s0);
+        } else {
+          signed_ref = geometry.signed_volume(c0);
+        }
+        unsigned ill = 0;
+        batch::Block k = batch::evaluate<Model, kEnergy, kPenalty, kStencil>(
+            model, geometry, c0, live, signed_ref, ctx.well3, ill);
+        // f' = f K, K = (xi + xa + xb + x3[c]) / 4 (shared() with mask 15).
+        k.f = k.f * ((batch::splat(xab) + batch::load(x3 + c0)) / batch::splat(4.0));
+        sums.add(k);
+        batch::subtract(fx, fy, fz, c0, k.f * batch::load(inv_vol + c0), geometry);
+        if constexpr (kEnergy) {
+          batch::add_energy(slot_w, e3, c0, k.en);
+          n_inverted += static_cast<std::uint64_t>(std::popcount(k.inverted));
+        }
+        n_tetrahedra += static_cast<std::uint64_t>(std::popcount(k.use));
+        any = any || k.use != 0;
+        ill_word |= std::uint64_t{ill} << s0;
+      }
+      sums.into(S, F, E);
+      // As in the scalar loop: the same signed volume, the same decisions.
+      for (; ill_word; ill_word &= ill_word - 1) {
+        const std::size_t c = wc * 64 + static_cast<std::size_t>(std::countr_zero(ill_word));
+        const double V = std::abs(RPQ[0] * Rx[c] + RPQ[1] * Ry[c] + RPQ[2] * Rz[c]);
+        if (V >= ctx.lo3) separate(c, 15);
+      }
+    }
+#endif
+    for (; todo; todo &= todo - 1) {
       const std::size_t c = wc * 64 + static_cast<std::size_t>(std::countr_zero(todo));
       const unsigned s = static_cast<unsigned>(c & 63);
       const unsigned mask = unsigned((mi >> s) & 1) | unsigned((mj >> s) & 1) << 1 |
@@ -344,6 +395,13 @@ inline void tetrahedron_loop_conservative(const Context<Model>& ctx, SymmetricKe
       }
     }
   }
+#if defined(CKPD_BATCHED_TETRAHEDRA)
+  if constexpr (batched_tetrahedra<Model>()) {
+    Ei += E;
+    Ej += E;
+    Ek += E;
+  }
+#endif
   centre.count.tetrahedra += n_tetrahedra;
   centre.count.inverted_tetrahedra += n_inverted;
   if (!any) return;

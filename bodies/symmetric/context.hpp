@@ -46,11 +46,17 @@ struct SymmetricKernelThread {
 
   SymmetricKernelStats stats;
 
+  // The per-slot arrays of doubles hold row_words * 64 + 7 entries at least (past the slots:
+  // zero or an earlier point's finite values), so that a block of 4 (or 8) slots starting at any
+  // slot of a row's words can be loaded and stored whole (tetrahedron_batch.hpp).
   void reserve(std::size_t slots, std::size_t row_words) {
-    if (up.size() < slots) {
+    const std::size_t padded = std::max(slots, row_words * 64 + 7);
+    if (Rx.size() < padded) {
       for (auto* v : {&Rx, &Ry, &Rz, &rx, &ry, &rz, &k2, &e2, &k3, &e3, &vol, &inv_vol, &x3, &fx,
                       &fy, &fz, &w})
-        v->resize(slots);
+        v->resize(padded);
+    }
+    if (up.size() < slots) {
       up.resize(slots);
       list.resize(slots);
     }

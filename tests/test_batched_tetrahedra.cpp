@@ -1,0 +1,177 @@
+// The symmetric kernel's batched tetrahedra (bodies/symmetric/tetrahedron_batch.hpp, built when
+// the compiler targets AVX2; other builds run the same tests on the scalar loop) against the
+// reference kernel: forces and energies to 1e-12 of their largest value on perturbed 3D bodies
+// with randomly failed bonds, lattice stencil and general path, lattices and jittered clouds,
+// centre_bonds and all_edges, own_family and energy_consistent, with and without the inversion
+// penalty, at 1 and 2 OpenMP threads; the pairs' tetrahedron counts leave every remainder
+// modulo the batch width, and upper families of more than 64 slots put batches in a second
+// row word; results are the same bits when the kernel runs again.
+#include <omp.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "bodies/body.hpp"
+#include "bodies/material.hpp"
+#include "bodies/symmetric/tetrahedron_batch.hpp"
+#include "bodies/symmetric_kernel.hpp"
+#include "kernel_comparison.hpp"
+#include "reference/internal_force.hpp"
+
+using namespace kernel_comparison;
+using ckpd::DamageRule;
+using ckpd::ForceForm;
+
+namespace {
+
+struct Variant {
+  ForceForm form;
+  DamageRule rule;
+  bool stencil;
+  double failed;
+  double penalty;
+};
+
+std::string describe(const Scene& s, const Variant& v) {
+  return s.label + ", " + ckpd::to_string(v.rule) +
+         (v.form == ForceForm::energy_consistent ? ", energy_consistent" : ", own_family") +
+         (v.stencil ? ", stencil" : ", general") + ", failed " + std::to_string(v.failed) +
+         ", penalty " + std::to_string(v.penalty);
+}
+
+Body make(const Scene& s, const Variant& v, std::mt19937& rng) {
+  BodyDefinition d = block(s.dimension, s.nx, s.ny, s.nz, constants_for(s), s.jitter, rng, s.m);
+  if (v.form == ForceForm::energy_consistent) {
+    std::uniform_real_distribution<double> u(0.7, 1.3);
+    for (double& vol : d.volume) vol *= u(rng);
+    d.full_family_volume *= 1.3;
+  }
+  d.force_form = v.form;
+  d.damage_rule = v.rule;
+  d.lattice_stencil = v.stencil;
+  d.inversion_penalty = v.penalty;
+  Body body = ckpd::make_body(d);
+  REQUIRE(ckpd::uses_lattice_stencil(body) == (v.stencil && s.jitter == 0));
+  // Large enough with the penalty that many tetrahedra turn inside out.
+  perturb(body, v.penalty > 0 ? 0.6 : 0.05, rng);
+  fail_bonds(body, v.failed, rng);
+  return body;
+}
+
+}  // namespace
+
+TEST_CASE("batched tetrahedra equal the reference kernel in every force form and damage rule",
+          "[batched_tetrahedra]") {
+  ThreadCountGuard guard;
+  INFO("tetrahedron batch width of this build: " << ckpd::symmetric::kTetrahedronBatch);
+#if defined(__AVX2__)
+  CHECK((ckpd::symmetric::kTetrahedronBatch == 4 || ckpd::symmetric::kTetrahedronBatch == 8));
+#else
+  CHECK(ckpd::symmetric::kTetrahedronBatch == 0);
+#endif
+  const std::vector<Scene> scenes = {
+      {"3D lattice nu=0.3 (C3>0)", 3, 0.3, 0.0, 7, 6, 6},
+      {"3D lattice nu=0.1 (C3<0)", 3, 0.1, 0.0, 6, 6, 5},
+      {"3D jittered cloud nu=0.3", 3, 0.3, 0.25, 6, 6, 5},
+      {"3D lattice, triangles and tetrahedra", 3, 0.3, 0.0, 6, 5, 5, true},
+      // More than 64 upper slots: batches in the second word of the rows.
+      {"3D lattice m=3.7", 3, 0.3, 0.0, 7, 7, 6, false, 3.7},
+  };
+  std::vector<Variant> variants;
+  for (const ForceForm form : {ForceForm::own_family, ForceForm::energy_consistent})
+    for (const bool stencil : {true, false}) {
+      variants.push_back({form, DamageRule::centre_bonds, stencil, 0.0, 0.0});
+      variants.push_back({form, DamageRule::centre_bonds, stencil, 0.2, 0.0});
+      variants.push_back({form, DamageRule::all_edges, stencil, 0.2, 0.0});
+      variants.push_back({form, DamageRule::all_edges, stencil, 0.1, 1.0});
+    }
+  for (const Scene& s : scenes)
+    for (const Variant& v : variants) {
+      if (v.stencil && s.jitter > 0) continue;  // clouds have no stencil
+      std::mt19937 rng(4711);
+      Body body = make(s, v, rng);
+      const std::vector<int> threads{1, 2};
+      const std::vector<Difference> diffs = compare_kernels(body, threads);
+      for (std::size_t t = 0; t < diffs.size(); ++t) {
+        INFO(describe(s, v) << ", " << threads[t] << " thread(s): force " << diffs[t].force
+                            << ", energy " << diffs[t].energy);
+        CHECK(diffs[t].force <= 1e-12);
+        CHECK(diffs[t].energy <= 1e-12);
+      }
+    }
+}
+
+TEST_CASE("the pairs' tetrahedron counts leave every remainder modulo the batch width",
+          "[batched_tetrahedra]") {
+  // For each pair (a, b) of an upper family (a < b bonded), the candidates c > b bonded to both:
+  // the batch sees them in blocks of 4 slots. On a test body above both the counts and the
+  // blocks' fill take every value, so remainders and partly filled blocks are exercised.
+  std::mt19937 rng(4711);
+  const Scene s{"3D lattice nu=0.3", 3, 0.3, 0.0, 7, 6, 6};
+  const Body body = ckpd::make_body(block(3, s.nx, s.ny, s.nz, constants_for(s), 0.0, rng));
+  const auto& f = body.family;
+  auto bonded = [&](std::uint32_t p, std::uint32_t q) {
+    const auto begin = f.neighbour.begin() + static_cast<std::ptrdiff_t>(f.offset[p]);
+    const auto end = f.neighbour.begin() + static_cast<std::ptrdiff_t>(f.offset[p + 1]);
+    return std::binary_search(begin, end, q);
+  };
+  std::set<std::size_t> remainders, fills;
+  for (std::size_t i = 0; i < body.size(); i += 17) {
+    std::vector<std::uint32_t> up;
+    for (std::size_t k = f.offset[i]; k < f.offset[i + 1]; ++k)
+      if (f.neighbour[k] > i) up.push_back(f.neighbour[k]);
+    for (std::size_t a = 0; a < up.size(); ++a)
+      for (std::size_t b = a + 1; b < up.size(); ++b) {
+        if (!bonded(up[a], up[b])) continue;
+        // The candidates in slot order, then the blocks as the kernel forms them: 4 slots from
+        // the lowest candidate not yet covered.
+        std::vector<std::size_t> cands;
+        for (std::size_t c = b + 1; c < up.size(); ++c)
+          if (bonded(up[a], up[c]) && bonded(up[b], up[c])) cands.push_back(c);
+        const std::size_t count = cands.size();
+        for (std::size_t n = 0; n < count;) {
+          std::size_t fill = 0;
+          const std::size_t c0 = cands[n];
+          while (n < count && cands[n] < c0 + 4) {
+            ++fill;
+            ++n;
+          }
+          fills.insert(fill);
+        }
+        remainders.insert(count % 4);
+      }
+  }
+  CHECK(remainders == std::set<std::size_t>{0, 1, 2, 3});
+  CHECK(fills == std::set<std::size_t>{1, 2, 3, 4});
+}
+
+TEST_CASE("batched tetrahedra give the same bits when the kernel runs again",
+          "[batched_tetrahedra]") {
+  ThreadCountGuard guard;
+  const Scene lattice{"3D lattice nu=0.3", 3, 0.3, 0.0, 7, 6, 6};
+  const Scene cloud{"3D cloud nu=0.1", 3, 0.1, 0.25, 6, 6, 5};
+  for (const Scene* s : {&lattice, &cloud})
+    for (const ForceForm form : {ForceForm::own_family, ForceForm::energy_consistent})
+      for (const bool stencil : {true, false}) {
+        if (stencil && s->jitter > 0) continue;
+        std::mt19937 rng(99);
+        const Variant v{form, DamageRule::all_edges, stencil, 0.1, 0.0};
+        Body body = make(*s, v, rng);
+        for (const int threads : {1, 2}) {
+          INFO(describe(*s, v) << ", " << threads << " thread(s)");
+          omp_set_num_threads(threads);
+          ckpd::compute_internal_force_symmetric(body, true);
+          const std::vector<Vec3> force = body.force_density;
+          const std::vector<double> energy = body.strain_energy_density;
+          for (int repeat = 0; repeat < 2; ++repeat) {
+            ckpd::compute_internal_force_symmetric(body, true);
+            CHECK(body.force_density == force);
+            CHECK(body.strain_energy_density == energy);
+          }
+        }
+      }
+}
