@@ -311,6 +311,8 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop_conservative(const Con
 #if defined(CKPD_BATCHED_TETRAHEDRA)
   const batch::Geometry geometry(Rx, Ry, Rz, rx, ry, rz, pq, RPQ);
   double E = 0;  // energy of the sets active for all four vertices (batched)
+  const batch::Rows rows{fx, fy, fz, slot_w, e3};
+  const batch::Tally tally{S, F, E, n_tetrahedra, n_inverted, any};
 #endif
   for (std::size_t wc = b >> 6; wc < W; ++wc) {
     std::uint64_t cand;
@@ -336,41 +338,15 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop_conservative(const Con
       // others one by one below.
       std::uint64_t full = todo & mi & mj & mk & ml;
       todo &= ~full;
-      batch::Sums sums;
-      std::uint64_t ill_word = 0;  // ill-conditioned or degenerate: one by one below
-      while (full) {
-        const unsigned s0 = static_cast<unsigned>(std::countr_zero(full));
-        const unsigned live = static_cast<unsigned>((full >> s0) & kBatchLanes);
-        full &= ~(kBatchLanes << s0);
-        const std::size_t c0 = wc * 64 + s0;
-        batch::d4 signed_ref;
-        if constexpr (kStencil) {
-          signed_ref = batch::stencil_inverse(*st, triple_row[wc], word_triple, s0);
-        } else {
-          signed_ref = geometry.signed_volume(c0);
-        }
-        unsigned ill = 0;
-        batch::Block k = batch::evaluate<Model, kEnergy, kPenalty, kStencil>(
-            model, geometry, c0, live, signed_ref, ctx.well3, ill);
-        // f' = f K, K = (xi + xa + xb + x3[c]) / 4 (shared() with mask 15).
-        k.f = k.f * ((batch::splat(xab) + batch::load(x3 + c0)) / batch::splat(4.0));
-        sums.add(k);
-        batch::subtract(fx, fy, fz, c0, k.f * batch::load(inv_vol + c0), geometry);
-        if constexpr (kEnergy) {
-          batch::add_energy(slot_w, e3, c0, k.en);
-          n_inverted += static_cast<std::uint64_t>(std::popcount(k.inverted));
-        }
-        n_tetrahedra += static_cast<std::uint64_t>(std::popcount(k.use));
-        any = any || k.use != 0;
-        ill_word |= std::uint64_t{ill} << s0;
-      }
-      sums.into(S, F, E);
-      // As in the scalar loop: the same signed volume, the same decisions.
-      for (; ill_word; ill_word &= ill_word - 1) {
-        const std::size_t c = wc * 64 + static_cast<std::size_t>(std::countr_zero(ill_word));
-        const double V = std::abs(RPQ[0] * Rx[c] + RPQ[1] * Ry[c] + RPQ[2] * Rz[c]);
-        if (V >= ctx.lo3) separate(c, 15);
-      }
+      batch::book_full_blocks<Model, kEnergy, kPenalty, kStencil>(
+          model, geometry, st, full, wc, kStencil ? triple_row[wc] : 0, word_triple, ctx.well3,
+          ctx.lo3, rows, tally,
+          [&](batch::Block& k, std::size_t c0) {
+            // f' = f K, K = (xi + xa + xb + x3[c]) / 4 (shared() with mask 15).
+            k.f = k.f * ((batch::splat(xab) + batch::load(x3 + c0)) / batch::splat(4.0));
+            return k.f * batch::load(inv_vol + c0);
+          },
+          separate);
     }
 #endif
     for (; todo; todo &= todo - 1) {

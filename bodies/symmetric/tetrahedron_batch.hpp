@@ -273,6 +273,74 @@ inline d4 stencil_inverse(const LatticeStencil& st, std::uint64_t row, std::size
                 static_cast<unsigned>((row >> s0) & kBatchLanes));
 }
 
+// Where a pair's blocks write: the slots' force and energy rows, and the pair's sums and counts.
+struct Rows {
+  double* fx;
+  double* fy;
+  double* fz;
+  double* w;
+  const double* e3;
+};
+struct Tally {
+  double* S;  // [3]
+  double& F;
+  double& E;
+  std::uint64_t& tetrahedra;
+  std::uint64_t& inverted;
+  bool& any;
+};
+
+// The tetrahedra of candidate word wc active for all four vertices (`full`), in blocks of kW
+// slots, each starting at the lowest one left. The force forms differ only in the weight:
+// `weigh(k, c0)` may rescale the block's f first (energy_consistent: by the mean over the
+// vertices) and returns the per-lane factor of the fourth vertex's force (own_family: k3 f;
+// energy_consistent: f / V^c). The sets the blocks leave (ill-conditioned or degenerate, general
+// path) go to `separate(c, 15)` afterwards with the scalar loop's decisions.
+template <class Model, bool kEnergy, bool kPenalty, bool kStencil, class Weigh, class Separate>
+inline void book_full_blocks(const Model& model, const Geometry& g, const LatticeStencil* st,
+                             std::uint64_t full, std::size_t wc, std::uint64_t triple_word,
+                             std::size_t word_triple, double well3, double lo3, const Rows& rows,
+                             const Tally& tally, Weigh&& weigh, Separate&& separate) {
+  Sums sums;
+  std::uint64_t ill_word = 0, tetrahedra = 0, inverted = 0;  // kept local: the loop is hot
+  unsigned used = 0;
+  while (full) {
+    const unsigned s0 = static_cast<unsigned>(std::countr_zero(full));
+    const unsigned live = static_cast<unsigned>((full >> s0) & kBatchLanes);
+    full &= ~(kBatchLanes << s0);
+    const std::size_t c0 = wc * 64 + s0;
+    d4 signed_ref;
+    if constexpr (kStencil) {
+      signed_ref = stencil_inverse(*st, triple_word, word_triple, s0);
+    } else {
+      signed_ref = g.signed_volume(c0);
+    }
+    unsigned ill = 0;
+    Block k =
+        evaluate<Model, kEnergy, kPenalty, kStencil>(model, g, c0, live, signed_ref, well3, ill);
+    const d4 factor = weigh(k, c0);
+    sums.add(k);
+    subtract(rows.fx, rows.fy, rows.fz, c0, factor, g);
+    if constexpr (kEnergy) {
+      add_energy(rows.w, rows.e3, c0, k.en);
+      inverted += static_cast<std::uint64_t>(std::popcount(k.inverted));
+    }
+    tetrahedra += static_cast<std::uint64_t>(std::popcount(k.use));
+    used |= k.use;
+    ill_word |= std::uint64_t{ill} << s0;
+  }
+  sums.into(tally.S, tally.F, tally.E);
+  tally.tetrahedra += tetrahedra;
+  if constexpr (kEnergy) tally.inverted += inverted;
+  tally.any = tally.any || used != 0;
+  // As in the scalar loop: the same signed volume, the same decisions.
+  for (; ill_word; ill_word &= ill_word - 1) {
+    const std::size_t c = wc * 64 + static_cast<std::size_t>(std::countr_zero(ill_word));
+    const double V = std::abs(g.R0[0] * g.Rx[c] + g.R1[0] * g.Ry[c] + g.R2[0] * g.Rz[c]);
+    if (V >= lo3) separate(c, 15);
+  }
+}
+
 }  // namespace batch
 
 #endif  // CKPD_BATCHED_TETRAHEDRA

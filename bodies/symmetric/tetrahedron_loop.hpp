@@ -124,6 +124,8 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop(const Context<Model>& 
   std::size_t triple_rank = kStencil ? st->triple_base[pr.number] : 0;
 #if defined(CKPD_BATCHED_TETRAHEDRA)
   const batch::Geometry geometry(Rx, Ry, Rz, rx, ry, rz, pq, RPQ);
+  const batch::Rows rows{fx, fy, fz, slot_w, e3};
+  const batch::Tally tally{S, F, E, n_tetrahedra, n_inverted, any};
 #endif
   for (std::size_t wc = b >> 6; wc < W; ++wc) {
     std::uint64_t cand;
@@ -153,40 +155,13 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop(const Context<Model>& 
     std::uint64_t part = cand & (mi | mj | mk | ml) & ~full;
 #if defined(CKPD_BATCHED_TETRAHEDRA)
     if constexpr (batched_tetrahedra<Model>()) {
-      // Blocks of 4 slots with any such c (tetrahedron_batch.hpp).
-      batch::Sums sums;
-      std::uint64_t ill_word = 0;  // ill-conditioned or degenerate: one by one below
-      while (full) {
-        const unsigned s0 = static_cast<unsigned>(std::countr_zero(full));
-        const unsigned live = static_cast<unsigned>((full >> s0) & kBatchLanes);
-        full &= ~(kBatchLanes << s0);
-        const std::size_t c0 = wc * 64 + s0;
-        batch::d4 signed_ref;
-        if constexpr (kStencil) {
-          signed_ref = batch::stencil_inverse(*st, triple_row[wc], word_triple, s0);
-        } else {
-          signed_ref = geometry.signed_volume(c0);
-        }
-        unsigned ill = 0;
-        const batch::Block k = batch::evaluate<Model, kEnergy, kPenalty, kStencil>(
-            model, geometry, c0, live, signed_ref, ctx.well3, ill);
-        sums.add(k);
-        batch::subtract(fx, fy, fz, c0, batch::load(k3 + c0) * k.f, geometry);
-        if constexpr (kEnergy) {
-          batch::add_energy(slot_w, e3, c0, k.en);
-          n_inverted += static_cast<std::uint64_t>(std::popcount(k.inverted));
-        }
-        n_tetrahedra += static_cast<std::uint64_t>(std::popcount(k.use));
-        any = any || k.use != 0;
-        ill_word |= std::uint64_t{ill} << s0;
-      }
-      sums.into(S, F, E);
-      // As in the scalar loop: the same signed volume, the same decisions.
-      for (; ill_word; ill_word &= ill_word - 1) {
-        const std::size_t c = wc * 64 + static_cast<std::size_t>(std::countr_zero(ill_word));
-        const double V = std::abs(RPQ[0] * Rx[c] + RPQ[1] * Ry[c] + RPQ[2] * Rz[c]);
-        if (V >= ctx.lo3) separate(c, 15);
-      }
+      // Blocks of 4 slots with any such c (tetrahedron_batch.hpp), weighed by k3 per slot.
+      batch::book_full_blocks<Model, kEnergy, kPenalty, kStencil>(
+          model, geometry, st, full, wc, kStencil ? triple_row[wc] : 0, word_triple, ctx.well3,
+          ctx.lo3, rows, tally,
+          [&](const batch::Block& k, std::size_t c0) { return batch::load(k3 + c0) * k.f; },
+          separate);
+      full = 0;
     }
 #endif
     for (; full; full &= full - 1) {
