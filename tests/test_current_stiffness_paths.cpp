@@ -1,7 +1,7 @@
 // The optimised current-state stiffness bound (bodies/current_stiffness.cpp: pair quantities
 // shared through a pair table, gradient norms taken as edge lengths) against the plain path
 // that evaluates every set on its own (reference/current_stiffness.cpp): the same bound and the
-// same shrink times to 1e-12 relative on randomly deformed bodies with random failed bonds, in
+// same shrink times to 1e-11 relative on randomly deformed bodies with random failed bonds, in
 // 2D and 3D, lattice and jittered cloud, m = 0, -1/4 and -1/2, both damage rules and force
 // forms, 1 and 2 threads; also with a set squeezed towards zero volume, where the bound is
 // dominated by one set's curvature.
@@ -34,6 +34,12 @@ void random_velocities(Body& body, std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-10, 10);
   for (Vec3& v : body.velocity) v = Vec3(u(rng), u(rng), body.dimension == 3 ? u(rng) : 0.0);
 }
+
+// A set's volume is computed from its lowest vertex here and from each vertex in the plain
+// path: rounding of v relative to |v| differs by a few ulps times |p||q||r| / |v|, and the
+// curvature r^(4m - 2) (m = -1/2: r^-4) multiplies it; measured worst 1.1e-12 on the jittered
+// 3D cloud at m = -1/2.
+constexpr double kTolerance = 1e-11;
 
 }  // namespace
 
@@ -70,9 +76,9 @@ TEST_CASE("Current-state stiffness bound equals the plain set-by-set path", "[st
             INFO(s.label << ", m = " << m << ", energy_consistent "
                          << (form == ckpd::ForceForm::energy_consistent) << ", all_edges "
                          << (rule == ckpd::DamageRule::all_edges) << ", threads " << threads);
-            CHECK(relative_difference(got, want) <= 1e-12);
-            CHECK(relative_difference(got_plain, want) <= 1e-12);
-            CHECK(relative_difference(got_shrink, want_shrink) <= 1e-12);
+            CHECK(relative_difference(got, want) <= kTolerance);
+            CHECK(relative_difference(got_plain, want) <= kTolerance);
+            CHECK(relative_difference(got_shrink, want_shrink) <= kTolerance);
           }
         }
       }
@@ -99,6 +105,28 @@ TEST_CASE("Current-state stiffness bound equals the plain path with a set squeez
     INFO("squeeze " << squeeze << ": bound " << got[centre] << " (at rest "
                     << body.stiffness_bound[centre] << ")");
     CHECK(got[centre] > body.stiffness_bound[centre]);
-    CHECK(relative_difference(got, want) <= 1e-12);
+    CHECK(relative_difference(got, want) <= kTolerance);
+  }
+}
+
+TEST_CASE("Current-state stiffness bound is bitwise reproducible at a given thread count",
+          "[stable_step]") {
+  ThreadCountGuard guard;
+  std::mt19937 rng(11);
+  const Scene s{"3D jittered cloud", 3, 0.3, 0.1, 5, 4, 4, true, 2.015};
+  BodyDefinition def = block(3, s.nx, s.ny, s.nz, constants_for(s), s.jitter, rng, s.m);
+  def.strain_measure = -0.5;
+  def.force_form = ckpd::ForceForm::energy_consistent;
+  Body body = ckpd::make_body(std::move(def));
+  perturb(body, 0.08, rng);
+  fail_bonds(body, 0.1, rng);
+  random_velocities(body, rng);
+  for (const int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    std::vector<double> first, second, first_shrink, second_shrink;
+    ckpd::ckpd_current_stiffness_bound(body, first, &first_shrink);
+    ckpd::ckpd_current_stiffness_bound(body, second, &second_shrink);
+    CHECK(first == second);
+    CHECK(first_shrink == second_shrink);
   }
 }
