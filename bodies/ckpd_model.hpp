@@ -65,25 +65,43 @@ struct SethHillStrain {
   static constexpr bool kLinear = false;
   double m = 0.5;
   static SethHillStrain of(double m) { return {m}; }
-  // e_m(r), from d = r - 1 (log1p and expm1 keep it accurate at small strain).
+  // e_m(r), from d = r - 1 (log1p and expm1 keep it accurate at small strain). The measures in
+  // use with m <= 0 have closed forms without exponentials (m = 0: e = log r, r^(2m - 1) = 1/r;
+  // m = -1/2: e = d / r, r^(2m - 1) = 1/r^2), which the kernels' sets call once each: exp and
+  // log1p were a quarter of a Kalthoff-Winkler step at m = 0.
   double strain(double d) const {
+    if (m == -0.5) return d / (1 + d);
     const double lr = std::log1p(d);
     return m == 0 ? lr : std::expm1(2 * m * lr) / (2 * m);
   }
   // e_m(r) e_m'(r) = e_m(r) r^(2m - 1): dpsi/dm per unit C, in place of r - 1.
   double factor(double d) const {
+    if (m == 0) return std::log1p(d) / (1 + d);
+    if (m == -0.5) {
+      const double ir = 1 / (1 + d);
+      return d * ir * ir * ir;
+    }
     const double lr = std::log1p(d);
-    const double e = m == 0 ? lr : std::expm1(2 * m * lr) / (2 * m);
-    return e * std::exp((2 * m - 1) * lr);
+    return std::expm1(2 * m * lr) / (2 * m) * std::exp((2 * m - 1) * lr);
   }
   // At r = 1 + d: slope = factor(d), and curvature = d/dr (e_m r^(2m - 1)) = r^(4m - 2) +
   // (2m - 1) e_m r^(2m - 2), d2psi/dm2 in units of its reference value C/R (1 at r = 1 for every
   // m; r^-2 (1 - log r) for m = 0). It grows without bound as r -> 0 for m <= 0, which is what
-  // the stable-step guard watches (THEORY.md section 6). One log and two exponentials.
+  // the stable-step guard watches (THEORY.md section 6). One log and two exponentials in general.
   void tangent(double d, double& slope, double& curvature) const {
-    const double lr = std::log1p(d);
-    const double e = m == 0 ? lr : std::expm1(2 * m * lr) / (2 * m);
-    const double g = std::exp((2 * m - 1) * lr);  // r^(2m - 1)
+    double e, g;  // e_m and r^(2m - 1)
+    if (m == 0) {
+      e = std::log1p(d);
+      g = 1 / (1 + d);
+    } else if (m == -0.5) {
+      g = 1 / (1 + d);
+      e = d * g;
+      g *= g;
+    } else {
+      const double lr = std::log1p(d);
+      e = std::expm1(2 * m * lr) / (2 * m);
+      g = std::exp((2 * m - 1) * lr);
+    }
     slope = e * g;
     curvature = g * g + (2 * m - 1) * e * g / (1 + d);
   }
