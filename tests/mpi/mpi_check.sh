@@ -36,11 +36,11 @@ restart)
 errors)
   # Each rank writes its exit status; stderr must hold the error exactly once.
   expect_failure() {
-    label=$1 pattern=$2
-    shift 2
+    label=$1 pattern=$2 ranks_asked=$3
+    shift 3
     rm -f "$work"/status.*
-    mpi "$@" sh -c '"$0" "$@"; echo $? > '"$work"'/status.$OMPI_COMM_WORLD_RANK' \
-      "$ckpd" 2>"$work/err" >/dev/null || true
+    mpi "$ranks_asked" sh -c '"$0" "$@"; echo $? > '"$work"'/status.$OMPI_COMM_WORLD_RANK' \
+      "$ckpd" "$@" 2>"$work/err" >/dev/null || true
     count=$(grep -c "ckpd: error: .*$pattern" "$work/err" || true)
     [ "$count" = 1 ] || { echo "$label: the error was printed $count times:"; cat "$work/err"; exit 1; }
     ranks=$(ls "$work"/status.* | wc -l)
