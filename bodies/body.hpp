@@ -157,6 +157,10 @@ struct Body {
   std::vector<Vec3> external_force_density;
   std::vector<Vec3> force_density;            // total: internal + external + contact
   std::vector<double> strain_energy_density;  // W1/2 + W2/3 + W3/4, filled on request
+  // Distributed force work (MPI, src/engine/rank_forces.hpp): when not empty, the symmetric
+  // kernel evaluates only the sets centred at points i with owned_centres[i] != 0 (this rank's
+  // share); the ranks' partial force and energy buffers are then summed in rank order.
+  std::vector<std::uint8_t> owned_centres;
 
   std::size_t size() const { return reference_position.size(); }
   Vec3 current_position(std::size_t i) const { return reference_position[i] + displacement[i]; }

@@ -7,11 +7,12 @@ cd "$(dirname "$0")/.."
 # python3-h5py and python3-matplotlib: scripts/render_damage.py and scripts/max_stretch.py;
 # libxml2-dev: the XDMF test parses the index as XML; pybind11-dev, python3-dev, python3-numpy,
 # python3-pytest, python3-yaml: the Python module (python/) and its tests; clang,
-# libclang-rt-14-dev (libFuzzer, sanitizers) and libomp-dev: scripts/fuzz.sh.
+# libclang-rt-14-dev (libFuzzer, sanitizers) and libomp-dev: scripts/fuzz.sh; libopenmpi-dev and
+# openmpi-bin: MPI runs (`mpirun -np N ckpd run`, CMake option CKPD_MPI) and their tests.
 packages=(cmake g++ make libeigen3-dev libyaml-cpp-dev libcli11-dev catch2 nlohmann-json3-dev
           libfcl-dev libassimp-dev libhdf5-dev libxml2-dev python3 python3-h5py python3-matplotlib
           pybind11-dev python3-dev python3-numpy python3-pytest python3-yaml
-          clang libclang-rt-14-dev libomp-dev)
+          clang libclang-rt-14-dev libomp-dev libopenmpi-dev openmpi-bin)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -51,15 +51,19 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
       }
     }
     const bool penalty = ctx.model.has_penalty();
+    // Body::owned_centres (MPI ranks): only this rank's centres; empty: all of them.
+    const std::uint8_t* owned = body.owned_centres.empty() ? nullptr : body.owned_centres.data();
     auto all_points = [&]<bool kEnergy, bool kPenalty>() {
       if (ctx.stencil != nullptr) {
 #pragma omp for schedule(static, kChunk)
         for (std::size_t i = 0; i < n; ++i)
-          process_point<Model, kEnergy, kPenalty, true>(ctx, i, th);
+          if (owned == nullptr || owned[i] != 0)
+            process_point<Model, kEnergy, kPenalty, true>(ctx, i, th);
       } else {
 #pragma omp for schedule(static, kChunk)
         for (std::size_t i = 0; i < n; ++i)
-          process_point<Model, kEnergy, kPenalty, false>(ctx, i, th);
+          if (owned == nullptr || owned[i] != 0)
+            process_point<Model, kEnergy, kPenalty, false>(ctx, i, th);
       }
     };
     if (with_energy && penalty) {

@@ -2,6 +2,7 @@
 
 #include "ckpd_build_info.hpp"
 #include "src/cli/isa.hpp"
+#include "src/engine/ranks.hpp"
 
 namespace ckpd {
 
@@ -37,15 +38,20 @@ std::string instruction_set_text() {
 std::string version_line() {
   return std::string("ckpd ") + build::kVersion + " (commit " + build::kGitCommit + ", " +
          build::kBuildType + ", " + build::kCompiler + ", flags " + build::kFlags +
-         "), instruction set " + instruction_set_text();
+         "), instruction set " + instruction_set_text() + ", MPI " + ranks::mpi_text();
 }
 
 nlohmann::ordered_json build_json() {
-  return {{"version", build::kVersion},       {"commit", build::kGitCommit},
-          {"build_type", build::kBuildType},  {"compiler", build::kCompiler},
-          {"flags", build::kFlags},           {"arch", build::kArch},
-          {"march", build::kMarch},           {"isa_extensions", isa::compiled_extensions()},
-          {"fp_contract", build::kFpContract}};
+  return {{"version", build::kVersion},
+          {"commit", build::kGitCommit},
+          {"build_type", build::kBuildType},
+          {"compiler", build::kCompiler},
+          {"flags", build::kFlags},
+          {"arch", build::kArch},
+          {"march", build::kMarch},
+          {"isa_extensions", isa::compiled_extensions()},
+          {"fp_contract", build::kFpContract},
+          {"mpi", ranks::mpi_text()}};
 }
 
 namespace {

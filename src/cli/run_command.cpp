@@ -5,7 +5,9 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -16,6 +18,8 @@
 #include "src/cli/launch_guard.hpp"
 #include "src/cli/setup_interrupt.hpp"
 #include "src/engine/contact_coupling.hpp"
+#include "src/engine/force_sharing.hpp"
+#include "src/engine/ranks.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/output/beta_report.hpp"
 #include "src/output/checkpoint.hpp"
@@ -93,74 +97,187 @@ nlohmann::ordered_json provenance(const RunOptions& opt) {
           {"build", build_json()}};
 }
 
+// The exit status and message main() gives an exception that escapes a command (2: bad input).
+int status_of(const std::function<void()>& work, std::string& message) {
+  try {
+    work();
+    return 0;
+  } catch (const CaseError& e) {
+    message = e.what();
+    return 2;
+  } catch (const CheckpointError& e) {
+    message = e.what();
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    message = e.what();
+    return 2;
+  } catch (const std::exception& e) {
+    message = e.what();
+    return 1;
+  }
+}
+
+// Threads per rank when neither --threads nor OMP_NUM_THREADS says: the cores this process may
+// use over the ranks started on its node (one each when mpirun binds ranks to cores).
+void choose_rank_threads() {
+  if (ranks::count() == 1 || std::getenv("OMP_NUM_THREADS") != nullptr) return;
+  long long local = 1;
+  if (const char* v = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE"))
+    local = std::max(1LL, std::atoll(v));
+  omp_set_num_threads(static_cast<int>(std::max(1LL, omp_get_num_procs() / local)));
+}
+
+// summary.json's account of the ranks (replicated state, shared force work).
+nlohmann::ordered_json decomposition_json(const Scene& scene, const Decomposition& d) {
+  nlohmann::ordered_json per_rank = nlohmann::ordered_json::array();
+  double total = 0;
+  std::uint64_t halo_bytes = 0;
+  for (const RankShare& s : d.share) {
+    total += s.work;
+    halo_bytes += s.bytes_per_step();
+  }
+  for (std::size_t r = 0; r < d.share.size(); ++r) {
+    const RankShare& s = d.share[r];
+    per_rank.push_back({{"rank", r},
+                        {"points", s.points},
+                        {"work_share", total > 0 ? s.work / total : 0.0},
+                        {"halo_points", s.ghosts},
+                        {"halo_bytes_per_step", s.bytes_per_step()}});
+  }
+  const std::size_t sent = shared_force_values(scene, false) * sizeof(double);
+  const std::size_t sent_energy = shared_force_values(scene, true) * sizeof(double);
+  const std::size_t others = d.share.size() - 1;
+  return {{"method", "recursive coordinate bisection of the deformable points by interaction work"},
+          {"state",
+           "replicated: every rank holds and integrates the whole scene; each rank "
+           "evaluates the sets centred at its own points"},
+          {"exchange",
+           "every step each rank sends its whole partial force buffer (3 doubles "
+           "per point of each deformable body; with energy 1 more per point) to "
+           "every other rank (MPI_Allgather), and the buffers are added in rank order"},
+          {"imbalance", d.imbalance()},
+          {"per_rank", per_rank},
+          {"sent_bytes_per_rank_per_step", sent},
+          {"sent_bytes_per_rank_energy_step", sent_energy},
+          {"received_bytes_per_rank_per_step", sent * others},
+          {"halo_bytes_per_step_all_ranks", halo_bytes}};
+}
+
 int run(const RunOptions& opt) {
-  if (const auto refusal = parallel_launch_refusal()) {
+  // A build with MPI: several processes started together are the ranks of this run.
+  if (const auto refusal = parallel_launch_refusal(ranks::built_with_mpi())) {
     std::cerr << "ckpd: error: run: " << *refusal << '\n';
     return 2;
   }
-  if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  const ranks::Session session(nullptr, nullptr);
+  const int rank = ranks::rank(), rank_count = ranks::count();
+  const bool root = rank == 0;
+  if (opt.threads > 0)
+    omp_set_num_threads(opt.threads);
+  else
+    choose_rank_threads();
   stop_on_signal_during_setup();
   const auto start = std::chrono::steady_clock::now();
-  Scene scene = load_scene(opt.case_file, opt.overrides);
-  Simulation sim(scene);
-  if (!opt.restart.empty()) read_checkpoint(opt.restart, sim);
-  const double setup_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  // From here a signal finishes the step, writes a checkpoint and stops (the loop below).
-  stop_requested = 0;
-  std::signal(SIGINT, request_stop);
-  std::signal(SIGTERM, request_stop);
+  std::optional<Scene> scene_holder;
+  std::optional<Simulation> sim_holder;
+  std::optional<RunDriver> driver_holder;
+  Decomposition decomposition;
   std::ostringstream setup;
-  print_setup(sim, setup);
-  if (!opt.quiet) std::cout << setup.str();
-
   std::string out = opt.out_dir;
   if (out.empty()) out = "runs/" + std::filesystem::path(opt.case_file).stem().string();
-  RunDriverOptions driver_options;
-  driver_options.out = out;
-  driver_options.restarted_from = opt.restart;
-  driver_options.progress = !opt.quiet;
-  driver_options.start = start;
-  driver_options.setup_seconds = setup_seconds;
-  driver_options.log_header.push_back(version_line());
-  driver_options.log_header.push_back("command: " + command_line());
-  for (const std::string& o : opt.overrides)
-    driver_options.log_header.push_back("override: --set " + o);
-  driver_options.log_header.push_back(setup.str());
-  driver_options.provenance = provenance(opt);
-  // An output folder that cannot be made or written is bad input too (exit 2), found before
-  // any step.
-  std::optional<RunDriver> driver_holder;
-  try {
-    driver_holder.emplace(sim, driver_options);
-  } catch (const std::runtime_error& e) {
-    throw CaseError(std::string("--out ") + e.what());
+  auto set_up = [&]() {
+    scene_holder.emplace(load_scene(opt.case_file, opt.overrides));
+    // Several ranks: each evaluates the sets centred at its own points (force_sharing.hpp).
+    if (rank_count > 1) {
+      try {
+        decomposition = share_force_work(*scene_holder, rank, rank_count);
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(opt.case_file + ": " + e.what() + " (mpirun -np " +
+                                    std::to_string(rank_count) + ")");
+      }
+    }
+    sim_holder.emplace(*scene_holder);
+    Simulation& sim = *sim_holder;
+    if (!opt.restart.empty()) read_checkpoint(opt.restart, sim);
+    const double setup_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // From here a signal finishes the step, writes a checkpoint and stops (the loop below).
+    stop_requested = 0;
+    std::signal(SIGINT, request_stop);
+    std::signal(SIGTERM, request_stop);
+    print_setup(sim, setup);
+    if (rank_count > 1)
+      setup << "MPI: " << rank_count << " ranks x " << omp_get_max_threads()
+            << " threads, force work shared by recursive coordinate bisection (imbalance "
+            << decomposition.imbalance() << "); state replicated on every rank\n";
+    if (!opt.quiet && root) std::cout << setup.str() << std::flush;
+
+    RunDriverOptions driver_options;
+    driver_options.out = root ? out : std::string();  // rank 0 writes every file
+    driver_options.restarted_from = opt.restart;
+    driver_options.progress = !opt.quiet && root;
+    driver_options.start = start;
+    driver_options.setup_seconds = setup_seconds;
+    driver_options.log_header.push_back(version_line());
+    driver_options.log_header.push_back("command: " + command_line());
+    for (const std::string& o : opt.overrides)
+      driver_options.log_header.push_back("override: --set " + o);
+    driver_options.log_header.push_back(setup.str());
+    driver_options.provenance = provenance(opt);
+    if (rank_count > 1)
+      driver_options.decomposition = decomposition_json(*scene_holder, decomposition);
+    // An output folder that cannot be made or written is bad input too (exit 2), found before
+    // any step.
+    try {
+      driver_holder.emplace(sim, driver_options);
+    } catch (const std::runtime_error& e) {
+      throw CaseError(std::string("--out ") + e.what());
+    }
+  };
+  if (rank_count == 1) {
+    set_up();
+  } else {
+    // Every rank passes here: a failure on any of them (bad input on all, an output folder
+    // only rank 0 cannot make) is printed once and every rank exits with it.
+    std::string message;
+    const int status = ranks::agree_on_failure(status_of(set_up, message), message);
+    if (status != 0) return status;
   }
+  Simulation& sim = *sim_holder;
   RunDriver& driver = *driver_holder;
   try {
     while (!driver.finished()) {
       driver.step();
-      if (stop_requested) {
+      // One rank's signal stops every rank after the same step.
+      if (ranks::any(stop_requested != 0)) {
         driver.write_checkpoint();
         const std::string message = "interrupted by a signal at step " +
                                     std::to_string(sim.step()) + "; continue with --restart " +
-                                    driver.checkpoint_path();
+                                    out + "/checkpoint.h5";
         driver.stop("interrupted", message);
-        std::cerr << "ckpd: " << message << '\n';
+        if (root) std::cerr << "ckpd: " << message << '\n';
         return 130;
       }
     }
   } catch (const TunnellingError& e) {
+    // Every rank holds the same state and throws the same error at the same step.
     driver.stop("tunnelling", e.what());
-    std::cerr << "ckpd: " << e.what() << "\nckpd: results up to that step are in " << out << '\n';
+    if (root)
+      std::cerr << "ckpd: " << e.what() << "\nckpd: results up to that step are in " << out << '\n';
     return 3;
   } catch (const InstabilityError& e) {
     driver.stop("unstable", e.what());
-    std::cerr << "ckpd: " << e.what() << "\nckpd: results up to that step are in " << out << '\n';
+    if (root)
+      std::cerr << "ckpd: " << e.what() << "\nckpd: results up to that step are in " << out << '\n';
     return 3;
+  } catch (const std::exception& e) {
+    if (rank_count == 1) throw;
+    // Seen by this rank only (a file rank 0 could not write): the others cannot go on.
+    std::cerr << "ckpd: error: rank " << rank << ": " << e.what() << std::endl;
+    ranks::abort_all(1);
   }
   driver.stop("completed", "");
-  if (!opt.quiet) {
+  if (!opt.quiet && root) {
     std::cout << "completed " << sim.step() << " steps to t = " << sim.time() << " s in "
               << driver.seconds() << " s; peak RSS " << peak_rss_mb() << " MB; max damage "
               << sim.max_damage() << "; results in " << out << '\n';

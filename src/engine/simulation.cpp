@@ -13,6 +13,7 @@
 #include "bodies/state_based_model.hpp"
 #include "bodies/symmetric_kernel.hpp"
 #include "src/engine/contact_coupling.hpp"
+#include "src/engine/force_sharing.hpp"
 
 namespace ckpd {
 
@@ -253,6 +254,13 @@ void Simulation::evaluate_forces(bool with_energy) {
   std::vector<double>& strain = step_strain_;
   dissipated.assign(bodies, 0.0);
   strain.assign(bodies, 0.0);
+  auto add_loads_and_energy = [&](std::size_t index) {
+    Body& b = scene_.bodies[index].body;
+    const std::size_t n = b.size();
+#pragma omp parallel for schedule(static) if (n > parallel_points())
+    for (std::size_t i = 0; i < n; ++i) b.force_density[i] += b.external_force_density[i];
+    if (with_energy) strain[index] = strain_energy(b);
+  };
   auto own_forces = [&](std::size_t index) {
     SceneBody& sb = scene_.bodies[index];
     Body& b = sb.body;
@@ -270,10 +278,9 @@ void Simulation::evaluate_forces(bool with_energy) {
     // what it is tested against).
     const SymmetricKernelStats stats = compute_internal_force_symmetric(b, with_energy);
     if (with_energy) inverted_[index] = stats.inverted_tetrahedra + stats.inverted_triangles;
-    const std::size_t n = b.size();
-#pragma omp parallel for schedule(static) if (n > parallel_points())
-    for (std::size_t i = 0; i < n; ++i) b.force_density[i] += b.external_force_density[i];
-    if (with_energy) strain[index] = strain_energy(b);
+    // A body whose force work is shared over ranks has this rank's part only: it is completed
+    // after the sum over ranks below.
+    if (!shares_force_work(b)) add_loads_and_energy(index);
   };
   // Small bodies side by side, one per thread (the parallel regions of their kernels, nested,
   // run on that thread alone); large ones one after another, each with every thread. Rigid
@@ -292,6 +299,11 @@ void Simulation::evaluate_forces(bool with_energy) {
 #pragma omp parallel for schedule(dynamic) if (small.size() > 1)
   for (std::size_t k = 0; k < small.size(); ++k) own_forces(small[k]);
   for (std::size_t k : large) own_forces(k);
+  if (shared_force_values(scene_, with_energy) > 0) {
+    sum_shared_forces(scene_, with_energy, inverted_, sharing_);
+    for (std::size_t k = 0; k < bodies; ++k)
+      if (shares_force_work(scene_.bodies[k].body)) add_loads_and_energy(k);
+  }
   // In body order: the same sums on every thread count.
   for (std::size_t k = 0; k < bodies; ++k) {
     dissipated_ += dissipated[k];
@@ -680,18 +692,24 @@ void Simulation::refresh_strain_energy() {
   const std::size_t bodies = scene_.bodies.size();
   std::vector<double>& strain = step_strain_;
   strain.assign(bodies, 0.0);
-  std::vector<Vec3> kept;
+  std::vector<std::vector<Vec3>> kept(bodies);
   for (std::size_t k = 0; k < bodies; ++k) {
     SceneBody& sb = scene_.bodies[k];
     if (sb.rigid) continue;
     Body& b = sb.body;
     // The kernel overwrites the force density (internal plus the external loads added after
     // it); the step's forces must stay the ones the next kick uses.
-    kept = b.force_density;
+    kept[k] = b.force_density;
     const SymmetricKernelStats stats = compute_internal_force_symmetric(b, true);
-    b.force_density.swap(kept);
     inverted_[k] = stats.inverted_tetrahedra + stats.inverted_triangles;
-    strain[k] = strain_energy(b);
+  }
+  // Bodies whose force work is shared over ranks: the energies and counts summed over ranks.
+  sum_shared_forces(scene_, true, inverted_, sharing_);
+  for (std::size_t k = 0; k < bodies; ++k) {
+    SceneBody& sb = scene_.bodies[k];
+    if (sb.rigid) continue;
+    sb.body.force_density.swap(kept[k]);
+    strain[k] = strain_energy(sb.body);
   }
   strain_energy_ = 0;
   for (std::size_t k = 0; k < bodies; ++k) strain_energy_ += strain[k];  // body order

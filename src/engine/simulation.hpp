@@ -8,6 +8,7 @@
 #include <string>
 
 #include "contact/contact_manager.hpp"
+#include "src/engine/force_sharing.hpp"
 #include "src/engine/scene.hpp"
 
 namespace ckpd {
@@ -225,6 +226,8 @@ class Simulation {
   std::vector<double> step_dissipated_, step_strain_;
   std::vector<std::size_t> small_bodies_, large_bodies_;
   std::vector<PointSet> point_sets_;
+  // The sum over ranks of the bodies whose force work is shared (force_sharing.hpp).
+  ForceSharingBuffers sharing_;
 };
 
 }  // namespace ckpd

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "src/engine/ranks.hpp"
 #include "src/output/checkpoint.hpp"
 
 namespace ckpd {
@@ -79,7 +80,8 @@ void RunDriver::step(bool with_energy) {
   // An adaptive step's time is its own sum of steps (the time after the next step).
   const double next_time = sim_.adaptive() ? sim_.next_time() : static_cast<double>(next) * dt;
   const bool frame = frame_due(next, next_time) || (fields_ && last);
-  const bool energy = with_energy || row || (frame && fields_->needs_energy());
+  // Only rank 0 has the output (an MPI run): every rank evaluates the energy when it does.
+  const bool energy = ranks::from_root(with_energy || row || (frame && fields_->needs_energy()));
   sim_.advance(energy);
   if (energy) progress_.energy_evaluated(sim_);
   if (row) {
@@ -107,6 +109,8 @@ nlohmann::ordered_json RunDriver::summary(const std::string& status,
   j["seconds_per_step"] =
       stepped > 0 ? (seconds() - options_.setup_seconds) / static_cast<double>(stepped) : 0.0;
   j["threads"] = omp_get_max_threads();
+  j["ranks"] = ranks::count();
+  if (!options_.decomposition.is_null()) j["decomposition"] = options_.decomposition;
   if (fields_) j["field_frames"] = fields_->frames();
   if (!options_.restarted_from.empty())
     j["restarted_from"] = {{"file", options_.restarted_from}, {"step", resume_}};
@@ -119,9 +123,9 @@ void RunDriver::stop(const std::string& status, const std::string& message) {
   if (row_step_ != sim_.step()) {
     // The last step had no evaluation with energy: the row and the summary must not carry the
     // strain energy of the row before against this step's kinetic energy and work.
-    if (history_) {
-      sim_.refresh_strain_energy();
-      history_->write_row(sim_);
+    if (ranks::from_root(history_.has_value())) {
+      sim_.refresh_strain_energy();  // a collective in an MPI run
+      if (history_) history_->write_row(sim_);
     }
     row_step_ = sim_.step();
   }

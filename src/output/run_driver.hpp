@@ -27,6 +27,8 @@ struct RunDriverOptions {
   // records of how the run was made; both empty: nothing of the kind.
   std::vector<std::string> log_header;
   nlohmann::ordered_json provenance;
+  // An MPI run: summary.json's `decomposition` (the ranks' shares and what they exchange).
+  nlohmann::ordered_json decomposition;
 };
 
 class RunDriver {

@@ -1,0 +1,155 @@
+#include "src/engine/ranks.hpp"
+
+#include <cstdlib>
+#include <iostream>
+
+#ifdef CKPD_WITH_MPI
+#include <mpi.h>
+#endif
+
+namespace ckpd::ranks {
+
+namespace {
+
+#ifdef CKPD_WITH_MPI
+// Whether a launcher started this process as one of several (the variables launch_guard.cpp
+// reads, and PMIx's).
+bool launched_as_several() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"}) {
+    const char* value = std::getenv(name);
+    if (value != nullptr && std::atoll(value) > 1) return true;
+  }
+  return false;
+}
+
+bool active() {
+  int initialised = 0, finalised = 0;
+  MPI_Initialized(&initialised);
+  MPI_Finalized(&finalised);
+  return initialised != 0 && finalised == 0;
+}
+#endif
+
+}  // namespace
+
+bool built_with_mpi() {
+#ifdef CKPD_WITH_MPI
+  return true;
+#else
+  return false;
+#endif
+}
+
+std::string mpi_text() {
+#ifdef CKPD_WITH_MPI
+  char text[MPI_MAX_LIBRARY_VERSION_STRING];
+  int length = 0;
+  MPI_Get_library_version(text, &length);
+  std::string line(text, static_cast<std::size_t>(length));
+  if (const std::size_t cut = line.find_first_of(",\n"); cut != std::string::npos) line.resize(cut);
+  return line;
+#else
+  return "none";
+#endif
+}
+
+Session::Session([[maybe_unused]] int* argc, [[maybe_unused]] char*** argv) {
+#ifdef CKPD_WITH_MPI
+  if (!launched_as_several() || active()) return;
+  // Only the main thread calls MPI (between the OpenMP regions).
+  int provided = 0;
+  MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+#endif
+}
+
+Session::~Session() {
+#ifdef CKPD_WITH_MPI
+  if (active()) MPI_Finalize();
+#endif
+}
+
+int rank() {
+#ifdef CKPD_WITH_MPI
+  if (active()) {
+    int r = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &r);
+    return r;
+  }
+#endif
+  return 0;
+}
+
+int count() {
+#ifdef CKPD_WITH_MPI
+  if (active()) {
+    int n = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &n);
+    return n;
+  }
+#endif
+  return 1;
+}
+
+void sum_in_rank_order(std::vector<double>& data, [[maybe_unused]] std::vector<double>& gathered) {
+#ifdef CKPD_WITH_MPI
+  const int n = count();
+  if (n == 1) return;
+  const std::size_t m = data.size();
+  gathered.resize(m * static_cast<std::size_t>(n));
+  MPI_Allgather(data.data(), static_cast<int>(m), MPI_DOUBLE, gathered.data(), static_cast<int>(m),
+                MPI_DOUBLE, MPI_COMM_WORLD);
+  const std::size_t ranks = static_cast<std::size_t>(n);
+#pragma omp parallel for schedule(static)
+  for (std::size_t k = 0; k < m; ++k) {
+    double s = gathered[k];
+    for (std::size_t r = 1; r < ranks; ++r) s += gathered[r * m + k];
+    data[k] = s;
+  }
+#endif
+}
+
+bool any(bool flag) {
+#ifdef CKPD_WITH_MPI
+  if (count() > 1) {
+    int mine = flag ? 1 : 0, all = 0;
+    MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    return all != 0;
+  }
+#endif
+  return flag;
+}
+
+bool from_root(bool flag) {
+#ifdef CKPD_WITH_MPI
+  if (count() > 1) {
+    int value = flag ? 1 : 0;
+    MPI_Bcast(&value, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    return value != 0;
+  }
+#endif
+  return flag;
+}
+
+int agree_on_failure(int status, [[maybe_unused]] const std::string& message) {
+#ifdef CKPD_WITH_MPI
+  if (count() > 1) {
+    int worst = 0;
+    MPI_Allreduce(&status, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    if (worst == 0) return 0;
+    const int mine = status != 0 ? rank() : count();
+    int first = 0;
+    MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    if (rank() == first) std::cerr << "ckpd: error: " << message << std::endl;
+    return worst;
+  }
+#endif
+  return status;
+}
+
+void abort_all([[maybe_unused]] int status) {
+#ifdef CKPD_WITH_MPI
+  if (count() > 1) MPI_Abort(MPI_COMM_WORLD, status);
+#endif
+}
+
+}  // namespace ckpd::ranks

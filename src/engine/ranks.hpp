@@ -1,0 +1,56 @@
+#pragma once
+// The MPI ranks of a run (issue 14: distributed force work over replicated state). Every rank
+// holds the whole scene and integrates it identically; only the internal-force work is split
+// (force_sharing.hpp). Without MPI in the build (CMake option CKPD_MPI), or in a process not
+// started by a launcher as one of several, there is one rank and every call here is a no-op, so
+// ckpd runs exactly as before.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace ckpd::ranks {
+
+// Whether this build has MPI (CKPD_MPI), and in words for `ckpd --version` and summary.json:
+// the library's own first line ("Open MPI v4.1.4, ...") or "none".
+bool built_with_mpi();
+std::string mpi_text();
+
+// Initialises MPI when the build has it and the environment says this process is one of
+// several started together (OMPI_COMM_WORLD_SIZE, PMI_SIZE, PMIX_RANK with a size above 1);
+// finalises it on destruction. One per process, in `ckpd run` only.
+class Session {
+ public:
+  Session(int* argc, char*** argv);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+};
+
+int rank();   // 0 without MPI
+int count();  // 1 without MPI
+inline bool root() {
+  return rank() == 0;
+}
+
+// data <- the sum over ranks of every rank's data (the same length on all), added in rank order
+// 0, 1, ..., R-1 for every entry, so that the result is the same bit for bit on every rank and
+// for every run at this rank count (MPI_Allreduce's order is not guaranteed). `gathered` is
+// scratch (R x data.size()), kept by the caller so that a step allocates nothing.
+void sum_in_rank_order(std::vector<double>& data, std::vector<double>& gathered);
+
+// Whether `flag` is true on any rank (a collective: every rank calls it at the same point).
+bool any(bool flag);
+// Rank 0's value of `flag` on every rank.
+bool from_root(bool flag);
+
+// A failure in a phase that every rank passes (set-up, output folder, checkpoint): every rank
+// calls it with its exit status (0: none) and message. Returns the largest status over ranks;
+// the lowest failing rank prints its message once on stderr ("ckpd: error: ..."). With one rank
+// it only returns `status` (the caller prints as before).
+int agree_on_failure(int status, const std::string& message);
+
+// Stops every rank at once after an error that only some ranks may have seen (a write failing
+// on rank 0 during the run): MPI_Abort with `status`; without MPI it returns.
+void abort_all(int status);
+
+}  // namespace ckpd::ranks

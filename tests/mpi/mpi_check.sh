@@ -1,0 +1,78 @@
+#!/bin/sh
+# The MPI tests (issue 14), registered with ctest in tests/CMakeLists.txt. Runs of one case at
+# 1, 2 and 3 ranks (one thread each) must agree (compare_runs.py: positions to 1e-12 relative,
+# the same broken bonds, fragments and damage); a checkpoint written at 2 ranks continued at 3
+# must equal the uninterrupted run; bad input must print one error and exit 2 on every rank.
+# Exit 77 (skipped) for a build without MPI.
+#   mpi_check.sh CKPD SOURCE_DIR WORK_DIR equivalence CASE | restart CASE | errors
+set -eu
+ckpd=$1 src=$2 work=$3 what=$4
+case_file=${5:+$src/$5}
+"$ckpd" --version | grep -q "MPI none" && { echo "ckpd is built without MPI: skipped"; exit 77; }
+command -v mpirun >/dev/null || { echo "no mpirun: skipped"; exit 77; }
+python=/usr/bin/python3
+mpi() {
+  np=$1
+  shift
+  OMP_NUM_THREADS=1 mpirun --oversubscribe --allow-run-as-root -np "$np" -x OMP_NUM_THREADS "$@"
+}
+rm -rf "$work"
+mkdir -p "$work"
+case $what in
+equivalence)
+  OMP_NUM_THREADS=1 "$ckpd" run "$case_file" --out "$work/np1" --quiet
+  mpi 2 "$ckpd" run "$case_file" --out "$work/np2" --quiet
+  mpi 3 "$ckpd" run "$case_file" --out "$work/np3" --quiet
+  grep -q '"ranks": 3' "$work/np3/summary.json"
+  $python "$src/tests/mpi/compare_runs.py" "$work/np1" "$work/np2" "$work/np3"
+  ;;
+restart)
+  OMP_NUM_THREADS=1 "$ckpd" run "$case_file" --out "$work/whole" --quiet
+  mpi 2 "$ckpd" run "$case_file" --out "$work/split" --quiet --set time.steps=120 \
+    --set output.checkpoint_interval=120
+  mpi 3 "$ckpd" run "$case_file" --out "$work/split" --quiet --restart "$work/split/checkpoint.h5"
+  $python "$src/tests/mpi/compare_runs.py" "$work/whole" "$work/split"
+  ;;
+errors)
+  # Each rank writes its exit status; stderr must hold the error exactly once.
+  expect_failure() {
+    label=$1 pattern=$2 ranks_asked=$3
+    shift 3
+    rm -f "$work"/status.*
+    mpi "$ranks_asked" sh -c '"$0" "$@"; echo $? > '"$work"'/status.$OMPI_COMM_WORLD_RANK' \
+      "$ckpd" "$@" 2>"$work/err" >/dev/null || true
+    count=$(grep -c "ckpd: error: .*$pattern" "$work/err" || true)
+    [ "$count" = 1 ] || { echo "$label: the error was printed $count times:"; cat "$work/err"; exit 1; }
+    ranks=$(ls "$work"/status.* | wc -l)
+    [ "$ranks" = "$np_used" ] || { echo "$label: $ranks of $np_used ranks reported"; exit 1; }
+    for f in "$work"/status.*; do
+      [ "$(cat "$f")" = 2 ] || { echo "$label: $f exited $(cat "$f"), not 2"; exit 1; }
+    done
+    echo "$label: one message, exit 2 on all $np_used ranks"
+  }
+  two=$src/tests/mpi/two_bodies.yaml
+  np_used=2 expect_failure "misspelt key" "unknown key 'stepz'" 2 run "$two" --set time.stepz=3 \
+    --out "$work/bad"
+  touch "$work/a_file"
+  np_used=2 expect_failure "unwritable output folder" "cannot create the output directory" 2 \
+    run "$two" --out "$work/a_file/out"
+  cat >"$work/two_points.yaml" <<'YAML'
+materials:
+  steel: {density: 7850, youngs_modulus: 200e9, poisson_ratio: 0.3}
+bodies:
+  - {name: pair, material: steel, geometry: {type: box, min: [0, 0, 0], max: [0.002, 0.001, 0.001]},
+     spacing: 0.001, horizon_ratio: 1.5}
+time: {steps: 3}
+YAML
+  np_used=3 expect_failure "more ranks than points" "fewer than the 3 ranks" 3 \
+    run "$work/two_points.yaml" --out "$work/tiny"
+  mpi 2 "$ckpd" run "$two" --out "$work/ckpt" --quiet --set time.steps=2 \
+    --set output.checkpoint_interval=2
+  np_used=2 expect_failure "checkpoint of another case" "written by another case" 2 \
+    run "$src/tests/mpi/rigid_indenter.yaml" --restart "$work/ckpt/checkpoint.h5" --out "$work/other"
+  ;;
+*)
+  echo "unknown check '$what'"
+  exit 2
+  ;;
+esac
