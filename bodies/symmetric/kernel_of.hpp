@@ -51,15 +51,18 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
       }
     }
     const bool penalty = ctx.model.has_penalty();
+    const std::uint8_t* skip = workspace.skip_centre;  // the far field's linear centres
     auto all_points = [&]<bool kEnergy, bool kPenalty>() {
       if (ctx.stencil != nullptr) {
 #pragma omp for schedule(static, kChunk)
         for (std::size_t i = 0; i < n; ++i)
-          process_point<Model, kEnergy, kPenalty, true>(ctx, i, th);
+          if (skip == nullptr || !skip[i])
+            process_point<Model, kEnergy, kPenalty, true>(ctx, i, th);
       } else {
 #pragma omp for schedule(static, kChunk)
         for (std::size_t i = 0; i < n; ++i)
-          process_point<Model, kEnergy, kPenalty, false>(ctx, i, th);
+          if (skip == nullptr || !skip[i])
+            process_point<Model, kEnergy, kPenalty, false>(ctx, i, th);
       }
     };
     if (with_energy && penalty) {
