@@ -38,6 +38,15 @@ LinearOperator reference_linear_operator(const Body& body);
 
 // b^i = sum_c K^ic u^c with the body's displacements, for every point.
 void apply_linear_operator(const LinearOperator& op, const Body& body, std::vector<Vec3>& b);
+// The same for the rows i with exact[i] == 0 only (the far field's linear points); b holds the
+// body's points and its other rows are left as they are.
+void apply_linear_operator_rows(const LinearOperator& op, const Body& body,
+                                const std::uint8_t* exact, std::vector<Vec3>& b);
+// Row i's share of the quadratic energy (1/2) u^T H u, H = -V K (rows summing to zero, and
+// symmetric under energy_consistent): W^i = (1/4) sum_j d^ij . K^ij d^ij with d^ij = u^j - u^i,
+// a strain energy density (J/m^3) that a rigid translation leaves at zero. Summed with the
+// volumes over all points it is the quadratic energy exactly (THEORY.md section 11b).
+double linear_energy_density(const LinearOperator& op, const Body& body, std::size_t i);
 
 namespace linear_operator_detail {
 // Where column c sits in row r: 0 for r itself, else 1 + c's place in r's family row.

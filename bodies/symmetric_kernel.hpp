@@ -55,6 +55,9 @@ class SymmetricKernelWorkspace {
 
   // Stencil path with damage: per point, whether some bond of its family has failed.
   std::vector<std::uint8_t> row_failed;
+  // The far field (far_field.hpp): when set, centres i with skip_centre[i] != 0 are not
+  // processed (nothing exact among i and its upper family); null: every centre.
+  const std::uint8_t* skip_centre = nullptr;
 
  private:
   std::vector<std::unique_ptr<SymmetricKernelThread>> threads_;

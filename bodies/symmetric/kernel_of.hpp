@@ -53,16 +53,17 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
     const bool penalty = ctx.model.has_penalty();
     // Body::owned_centres (MPI ranks): only this rank's centres; empty: all of them.
     const std::uint8_t* owned = body.owned_centres.empty() ? nullptr : body.owned_centres.data();
+    const std::uint8_t* skip = workspace.skip_centre;  // the far field's linear centres
     auto all_points = [&]<bool kEnergy, bool kPenalty>() {
       if (ctx.stencil != nullptr) {
 #pragma omp for schedule(static, kChunk)
         for (std::size_t i = 0; i < n; ++i)
-          if (owned == nullptr || owned[i] != 0)
+          if ((owned == nullptr || owned[i] != 0) && (skip == nullptr || !skip[i]))
             process_point<Model, kEnergy, kPenalty, true>(ctx, i, th);
       } else {
 #pragma omp for schedule(static, kChunk)
         for (std::size_t i = 0; i < n; ++i)
-          if (owned == nullptr || owned[i] != 0)
+          if ((owned == nullptr || owned[i] != 0) && (skip == nullptr || !skip[i]))
             process_point<Model, kEnergy, kPenalty, false>(ctx, i, th);
       }
     };

@@ -6,6 +6,7 @@
 #include <map>
 #include <sstream>
 
+#include "bodies/far_field.hpp"
 #include "bodies/material.hpp"
 #include "bodies/patch_test.hpp"
 #include "src/case/contact_loader.hpp"
@@ -221,6 +222,18 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
       force_form_node->fail("'own_family' or 'energy_consistent'");
     def.force_form = force_form_from_string(form);
   }
+  // far_field: {tolerance: T}: points whose family is undamaged and whose bond vectors change by
+  // less than T L take the linear operator's force (bodies/far_field.hpp); T = 0: off.
+  std::optional<CaseNode> far_field_node = n.optional("far_field");
+  double far_tolerance = 0;
+  if (far_field_node) {
+    if (!far_field_node->is_map())
+      far_field_node->fail(
+          "a map {tolerance: T} (T >= 0, the largest relative bond-vector change "
+          "of a linear point; 0: off)");
+    far_tolerance = far_field_node->required("tolerance").as_non_negative();
+    far_field_node->finish();
+  }
   // lattice_stencil: false keeps the general kernel path on a lattice body (comparisons).
   if (auto f = n.optional("lattice_stencil")) def.lattice_stencil = f->as_bool();
   // constants: analytic (THEORY.md section 3, default) or calibrated to the lattice's patch
@@ -274,6 +287,14 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
     sb.body = make_body(std::move(def));
   } catch (const std::invalid_argument& e) {
     throw CaseError(n.where() + ": " + e.what());
+  }
+  if (far_tolerance > 0) {
+    try {
+      sb.far_field = std::make_shared<FarField>(make_far_field(sb.body, far_tolerance));
+    } catch (const std::invalid_argument& e) {
+      far_field_node->fail(std::string("a body whose force model has a linearisation (") +
+                           e.what() + ")");
+    }
   }
   sb.spacing = spacing;
   sb.mesh = mesh_info;

@@ -136,6 +136,14 @@ int check(const CheckOptions& opt) {
               << b.mass() << (b.dimension == 2 ? " kg/m" : " kg") << ", ~"
               << megabytes_text(body_megabytes(b)) << " of body data\n";
     std::cout << "    kernel: " << kernel_path_note(b) << '\n';
+    if (sb.far_field) {
+      megabytes += static_cast<double>(sb.far_field->op.bytes()) / 1e6;
+      std::cout << "    far field: tolerance " << sb.far_field->tolerance << ", linear operator "
+                << megabytes_text(static_cast<double>(sb.far_field->op.bytes()) / 1e6)
+                << " (one 3 x 3 block per family member and point; lattice classes not yet), "
+                << "exact at set-up: " << sb.far_field->exact_count << " of " << b.size()
+                << " points\n";
+    }
     if (sb.mesh) print_mesh(*sb.mesh, b);
   }
   const StepChoice& s = sim.step_choice();
@@ -204,6 +212,11 @@ int check(const CheckOptions& opt) {
   std::cout << "timing: set-up " << setup << " s, " << per_step << " s per step over " << steps
             << " steps at " << omp_get_max_threads() << " threads; projected run time " << projected
             << " s (" << projected / 3600 << " h)\n";
+  if (sim.has_far_field())
+    std::cout << "  far field: fraction of its points exact after the timed steps "
+              << sim.exact_fraction()
+              << "; the projection holds while it stays there (it grows as damage and strain "
+                 "spread: exact points are exact for good)\n";
   return 0;
 }
 

@@ -17,7 +17,10 @@ Decomposition share_force_work(Scene& scene, int rank, int ranks) {
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     Body& body = scene.bodies[b].body;
     body.owned_centres.clear();
-    if (rigid[b] || body.model == &state_based_kernels()) continue;
+    // Evaluated whole on every rank: the state-based solid (two-pass kernel) and a body with a
+    // far field (its linear rows overwrite whole points' forces, which a sum over ranks would
+    // count once per rank).
+    if (rigid[b] || body.model == &state_based_kernels() || scene.bodies[b].far_field) continue;
     body.owned_centres.resize(body.size());
     for (std::size_t i = 0; i < body.size(); ++i)
       body.owned_centres[i] = d.owner[b][i] == rank ? 1 : 0;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bodies/body.hpp"
+#include "bodies/far_field.hpp"
 #include "contact/contact_settings.hpp"
 #include "contact/mesh_wall.hpp"
 #include "src/engine/condition.hpp"
@@ -31,6 +32,9 @@ struct SceneBody {
   // E and nu: a deformable body's material's, a rigid body's own (`rigid: {youngs_modulus,
   // poisson_ratio}`) or its material's; none when unknown. Contact laws that need them read them.
   std::optional<ElasticConstants> elastic;
+  // `far_field: {tolerance: T}` with T > 0: the adaptive linearised far field (far_field.hpp);
+  // null: every point exact (the default).
+  std::shared_ptr<FarField> far_field;
 };
 
 struct TimeSettings {

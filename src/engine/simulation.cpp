@@ -10,6 +10,7 @@
 #include "base/parallel_policy.hpp"
 #include "bodies/current_stiffness.hpp"
 #include "bodies/damage.hpp"
+#include "bodies/far_field.hpp"
 #include "bodies/state_based_model.hpp"
 #include "bodies/symmetric_kernel.hpp"
 #include "src/engine/contact_coupling.hpp"
@@ -276,7 +277,9 @@ void Simulation::evaluate_forces(bool with_energy) {
     dissipated[index] = fail_overstretched_bonds(b, 0.5 * step_size(step_)).dissipated;
     // Each bond, triangle and tetrahedron once (the per-point reference kernel in reference/ is
     // what it is tested against).
-    const SymmetricKernelStats stats = compute_internal_force_symmetric(b, with_energy);
+    const SymmetricKernelStats stats =
+        sb.far_field ? compute_internal_force_far_field(b, *sb.far_field, with_energy)
+                     : compute_internal_force_symmetric(b, with_energy);
     if (with_energy) inverted_[index] = stats.inverted_tetrahedra + stats.inverted_triangles;
     // A body whose force work is shared over ranks has this rank's part only: it is completed
     // after the sum over ranks below.
@@ -700,7 +703,9 @@ void Simulation::refresh_strain_energy() {
     // The kernel overwrites the force density (internal plus the external loads added after
     // it); the step's forces must stay the ones the next kick uses.
     kept[k] = b.force_density;
-    const SymmetricKernelStats stats = compute_internal_force_symmetric(b, true);
+    const SymmetricKernelStats stats =
+        sb.far_field ? compute_internal_force_far_field(b, *sb.far_field, true)
+                     : compute_internal_force_symmetric(b, true);
     inverted_[k] = stats.inverted_tetrahedra + stats.inverted_triangles;
   }
   // Bodies whose force work is shared over ranks: the energies and counts summed over ranks.
@@ -750,6 +755,22 @@ std::uint64_t Simulation::inverted() const {
   std::uint64_t total = 0;
   for (std::uint64_t n : inverted_) total += n;
   return total;
+}
+
+bool Simulation::has_far_field() const {
+  for (const SceneBody& sb : scene_.bodies)
+    if (sb.far_field) return true;
+  return false;
+}
+
+double Simulation::exact_fraction() const {
+  std::size_t exact = 0, points = 0;
+  for (const SceneBody& sb : scene_.bodies) {
+    if (!sb.far_field) continue;
+    exact += sb.far_field->exact_count;
+    points += sb.body.size();
+  }
+  return points > 0 ? static_cast<double>(exact) / static_cast<double>(points) : 1.0;
 }
 
 double Simulation::max_damage() const {

@@ -137,6 +137,10 @@ class Simulation {
   std::size_t broken_bonds(std::size_t body) const;
   std::size_t precracked_bonds(std::size_t body) const { return initially_failed_[body]; }
   double max_damage() const;
+  // Whether some body has a far field; the fraction of those bodies' points evaluated exactly at
+  // the last force evaluation (1 without a far field).
+  bool has_far_field() const;
+  double exact_fraction() const;
   // Inverted sets (each unordered tetrahedron or triangle once) as of the last evaluation with
   // energy: all bodies, or body b; the largest total seen; and the first sighting.
   std::uint64_t inverted() const;

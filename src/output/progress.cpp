@@ -59,6 +59,8 @@ std::string format_progress(const ProgressState& p, std::size_t width) {
                                      ? std::string("energy error: not yet evaluated")
                                      : printf_string("energy error %.2g%%", 100 * p.energy_error) +
                                            " (at step " + std::to_string(p.energy_step) + ")"};
+  if (p.exact_fraction >= 0)
+    parts.insert(parts.begin() + 7, printf_string("exact %.3f", p.exact_fraction));
   std::string line = parts[0];
   for (std::size_t k = 1; k < parts.size(); ++k) {
     if (line.size() + 2 + parts[k].size() > width) break;
@@ -91,6 +93,7 @@ ProgressState ProgressReporter::state(const Simulation& sim) const {
   p.elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   p.rate = p.elapsed > 0 ? static_cast<double>(sim.step() - start_step_) / p.elapsed : 0.0;
   p.max_damage = sim.max_damage();
+  if (sim.has_far_field()) p.exact_fraction = sim.exact_fraction();
   p.energy_step = energy_step_;
   p.energy_error = energy_error_;
   return p;

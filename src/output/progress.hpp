@@ -20,6 +20,7 @@ struct ProgressState {
   double elapsed = 0;  // s of wall time since the run (this process) started stepping
   double rate = 0;     // steps/s
   double max_damage = 0;
+  double exact_fraction = -1;  // far field: the fraction of its points evaluated exactly; < 0: none
   long long energy_step = -1;  // step of the last energy evaluation; -1: none yet
   double energy_error = 0;     // |balance error| / max(|external work|, kinetic + strain) then
 };

@@ -33,7 +33,7 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
       log_->write("restarted from " + options_.restarted_from + " at step " +
                   std::to_string(resume_));
     progress_.set_log([this](const std::string& line) { log_->write(line); });
-    history_.emplace(out + "/history.csv", resume_, o.history);
+    history_.emplace(out + "/history.csv", resume_, o.history, sim_.has_far_field());
     // Summaries of earlier runs in this folder must not pass for this one's.
     std::filesystem::remove(out + "/summary.json", ec);
     if (o.writes_fields()) fields_.emplace(out, o.fields, resume_);

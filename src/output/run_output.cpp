@@ -19,13 +19,14 @@
 namespace ckpd {
 
 HistoryWriter::HistoryWriter(const std::string& path, long long resume_after_step,
-                             std::vector<HistoryQuantity> chosen)
-    : path_(path), chosen_(std::move(chosen)) {
+                             std::vector<HistoryQuantity> chosen, bool far_field)
+    : path_(path), chosen_(std::move(chosen)), far_field_(far_field) {
   std::string header =
       "step,time,kinetic,strain,contact,external_work,dissipated,contact_damping,"
       "contact_friction,balance_error,broken_bonds,max_damage,inverted";
   for (const HistoryQuantity& q : chosen_)
     for (const std::string& column : history_columns(q)) header += "," + column;
+  if (far_field_) header += ",exact_fraction";
   std::vector<std::string> kept;
   if (resume_after_step >= 0) {
     std::ifstream in(path);
@@ -59,6 +60,7 @@ void HistoryWriter::write_row(const Simulation& sim) {
        << sim.broken_bonds() << ',' << sim.max_damage() << ',' << sim.inverted();
   for (const HistoryQuantity& q : chosen_)
     for (double v : history_values(sim, q)) out_ << ',' << v;
+  if (far_field_) out_ << ',' << sim.exact_fraction();
   out_ << '\n';
   out_.flush();
   if (!out_) throw std::runtime_error(path_ + ": writing the history failed");
@@ -147,6 +149,10 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
          // Connected components of intact bonds; single points count.
          {"fragments", fragments.count()},
          {"largest_fragments", sizes}});
+    if (sb.far_field)
+      bodies.back()["far_field"] = {{"tolerance", sb.far_field->tolerance},
+                                    {"exact_fraction", sb.far_field->exact_fraction()},
+                                    {"operator_bytes", sb.far_field->op.bytes()}};
   }
   j["points"] = points;
   j["bonds"] = bonds;

@@ -16,7 +16,7 @@ class HistoryWriter {
   // is continued; otherwise it starts anew.
   // `chosen`: the case's extra columns (output.history), after the default ones.
   explicit HistoryWriter(const std::string& path, long long resume_after_step = -1,
-                         std::vector<HistoryQuantity> chosen = {});
+                         std::vector<HistoryQuantity> chosen = {}, bool far_field = false);
   // One row per step: a second call at the step of the last row (kept from before a restart
   // or written by this process) writes nothing.
   void write_row(const Simulation& sim);
@@ -26,6 +26,7 @@ class HistoryWriter {
   std::string path_;
   std::vector<HistoryQuantity> chosen_;
   long long last_step_ = -1;  // the step of the last row in the file
+  bool far_field_ = false;    // a last column exact_fraction (some body has a far field)
 };
 
 // Peak resident set size of this process in MB.

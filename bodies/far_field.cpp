@@ -1,0 +1,97 @@
+#include "bodies/far_field.hpp"
+
+#include <algorithm>
+
+namespace ckpd {
+
+FarField make_far_field(const Body& body, double tolerance) {
+  FarField ff;
+  ff.tolerance = tolerance;
+  ff.op = reference_linear_operator(body);
+  const std::size_t n = body.size();
+  ff.exact.assign(n, 0);
+  ff.row_failed.assign(n, 0);
+  ff.skip.assign(n, 0);
+  return ff;
+}
+
+void classify_far_field(const Body& body, FarField& ff) {
+  const std::size_t n = body.size();
+  const std::size_t* offset = body.family.offset.data();
+  const std::uint32_t* nb = body.family.neighbour.data();
+  const std::uint8_t* intact = body.damage_enabled ? body.bond_intact.data() : nullptr;
+  const bool moved = !body.displacement.empty();
+  const double T = ff.tolerance;
+  std::size_t exact_count = 0;
+#pragma omp parallel
+  {
+    // A failed bond anywhere in i's row; and i's own strain screen, booked at once.
+#pragma omp for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      std::uint8_t failed = 0;
+      if (intact != nullptr)
+        for (std::size_t k = offset[i]; k < offset[i + 1]; ++k) failed |= intact[k] == 0;
+      ff.row_failed[i] = failed;
+      if (ff.exact[i] || failed || !moved) continue;
+      const Vec3 Xi = body.reference_position[i], ui = body.displacement[i];
+      double worst = 0;  // max_j |u^j - u^i|^2 / L^2
+      for (std::size_t k = offset[i]; k < offset[i + 1]; ++k) {
+        const std::uint32_t j = nb[k];
+        const double L2 = (body.reference_position[j] - Xi).squaredNorm();
+        worst = std::max(worst, (body.displacement[j] - ui).squaredNorm() / L2);
+      }
+      if (!(worst < T * T)) ff.exact[i] = 1;
+    }
+    // A failed bond of a family member makes i exact.
+#pragma omp for schedule(static)
+    for (std::size_t i = 0; i < n; ++i) {
+      if (ff.exact[i]) continue;
+      std::uint8_t failed = ff.row_failed[i];
+      for (std::size_t k = offset[i]; k < offset[i + 1] && !failed; ++k)
+        failed = ff.row_failed[nb[k]];
+      if (failed) ff.exact[i] = 1;
+    }
+    // Centre i is skipped when i and every upper neighbour (j > i) are linear.
+#pragma omp for schedule(static) reduction(+ : exact_count)
+    for (std::size_t i = 0; i < n; ++i) {
+      std::uint8_t any = ff.exact[i];
+      exact_count += any;
+      const std::uint32_t* end = nb + offset[i + 1];
+      for (const std::uint32_t* p =
+               std::upper_bound(nb + offset[i], end, static_cast<std::uint32_t>(i));
+           p < end && !any; ++p)
+        any = ff.exact[*p];
+      ff.skip[i] = !any;
+    }
+  }
+  ff.exact_count = exact_count;
+}
+
+SymmetricKernelStats compute_internal_force_far_field(Body& body, FarField& ff, bool with_energy,
+                                                      SymmetricKernelWorkspace& workspace) {
+  classify_far_field(body, ff);
+  workspace.skip_centre = ff.skip.data();
+  SymmetricKernelStats stats;
+  try {
+    stats = compute_internal_force_symmetric(body, with_energy, workspace);
+  } catch (...) {
+    workspace.skip_centre = nullptr;
+    throw;
+  }
+  workspace.skip_centre = nullptr;
+  apply_linear_operator_rows(ff.op, body, ff.exact.data(), body.force_density);
+  if (with_energy) {
+    const std::size_t n = body.size();
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i)
+      if (!ff.exact[i]) body.strain_energy_density[i] = linear_energy_density(ff.op, body, i);
+  }
+  return stats;
+}
+
+SymmetricKernelStats compute_internal_force_far_field(Body& body, FarField& ff, bool with_energy) {
+  thread_local SymmetricKernelWorkspace workspace;
+  return compute_internal_force_far_field(body, ff, with_energy, workspace);
+}
+
+}  // namespace ckpd

@@ -1,0 +1,47 @@
+#pragma once
+// The adaptive linearised far field (issue 20, THEORY.md section 11b). Each step every point is
+// classified: *linear* while no bond of any point of its family (itself included) has failed and
+// max_j |dx^ij - dX^ij| / L^ij over its family stays below the tolerance T; otherwise *exact*,
+// and exact for good (damage is permanent, and the rule keeps the decision cheap and sticky).
+// Exact points get the symmetric kernel's exact force: every set with an exact vertex is
+// evaluated, because a centre is skipped only when it and its whole upper family are linear.
+// Linear points get b^i = sum_c K^ic u^c from the linear operator's row (linear_operator.hpp),
+// and the strain energy density linear_energy_density (their share of (1/2) u^T H u).
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "bodies/body.hpp"
+#include "bodies/linear_operator.hpp"
+#include "bodies/symmetric_kernel.hpp"
+
+namespace ckpd {
+
+struct FarField {
+  double tolerance = 0;  // > 0 (a body without the key or with T = 0 has no FarField)
+  LinearOperator op;     // at the reference state
+  // Per point: 1 exact (for good), 0 linear; skip: centre i and all its upper neighbours are
+  // linear (the symmetric kernel enumerates nothing from i that an exact point needs).
+  std::vector<std::uint8_t> exact, row_failed, skip;
+  std::size_t exact_count = 0;
+  double exact_fraction() const {
+    return exact.empty() ? 0.0
+                         : static_cast<double>(exact_count) / static_cast<double>(exact.size());
+  }
+};
+
+// The far field of a body at its reference state (throws std::invalid_argument for a model
+// without a linearisation, as reference_linear_operator does).
+FarField make_far_field(const Body& body, double tolerance);
+
+// Updates ff.exact (sticky), ff.skip and ff.exact_count from the body's bonds and displacements:
+// O(bonds), parallel, no allocation after the first call.
+void classify_far_field(const Body& body, FarField& ff);
+
+// The body's internal force density (and, with energy, strain energy density) with the far
+// field: classification, the symmetric kernel on the centres not skipped, the linear rows.
+SymmetricKernelStats compute_internal_force_far_field(Body& body, FarField& ff, bool with_energy);
+SymmetricKernelStats compute_internal_force_far_field(Body& body, FarField& ff, bool with_energy,
+                                                      SymmetricKernelWorkspace& workspace);
+
+}  // namespace ckpd

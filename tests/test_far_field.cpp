@@ -1,0 +1,211 @@
+// The adaptive far field (bodies/far_field.hpp): the classification follows its definition
+// (checked point by point against a direct evaluation of it), exact points get the reference
+// kernel's exact force, linear points the linear operator's row and the quadratic energy; with
+// every point exact the force is the symmetric kernel's bit for bit, with every point linear the
+// linear operator's bit for bit; exact stays exact. 2D and 3D, lattice (stencil path) and
+// jittered cloud, both force forms, random failed bonds, 1 and 2 threads.
+#include <omp.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "bodies/body.hpp"
+#include "bodies/far_field.hpp"
+#include "bodies/linear_operator.hpp"
+#include "kernel_comparison.hpp"
+#include "reference/internal_force.hpp"
+
+using ckpd::Body;
+using ckpd::ForceForm;
+using ckpd::Vec3;
+
+namespace {
+
+struct FarScene {
+  kernel_comparison::Scene scene;
+  ForceForm form;
+};
+
+const std::vector<FarScene>& scenes() {
+  static const std::vector<FarScene> all = [] {
+    std::vector<FarScene> v;
+    const std::vector<kernel_comparison::Scene> geometry = {
+        {"2D lattice, nu=0.4", 2, 0.4, 0.0, 12, 10, 1},
+        {"2D jittered cloud, nu=0.3", 2, 0.3, 0.2, 12, 10, 1},
+        {"3D lattice, nu=0.3", 3, 0.3, 0.0, 12, 6, 6},
+        {"3D jittered cloud", 3, 0.3, 0.2, 12, 6, 6},
+    };
+    for (const auto& g : geometry)
+      for (ForceForm f : {ForceForm::own_family, ForceForm::energy_consistent}) v.push_back({g, f});
+    return v;
+  }();
+  return all;
+}
+
+std::string label(const FarScene& fs) {
+  return fs.scene.label + ", " + ckpd::to_string(fs.form);
+}
+
+// The force form is set in the definition: make_body picks the symmetric kernel's table by it.
+// Failed bonds (with probability failed_fraction) only among the first quarter of the points,
+// where mixed_displacement strains too: the rest of the body stays linear.
+Body scene_body(const FarScene& fs, double failed_fraction, std::mt19937& rng) {
+  using namespace kernel_comparison;
+  const Scene& s = fs.scene;
+  ckpd::BodyDefinition d =
+      block(s.dimension, s.nx, s.ny, s.nz, constants_for(s), s.jitter, rng, s.m);
+  d.force_form = fs.form;
+  Body body = ckpd::make_body(std::move(d));
+  if (failed_fraction > 0) {
+    fail_bonds(body, failed_fraction, rng);
+    const std::size_t quarter = body.size() / 4;
+    for (std::size_t i = 0; i < body.size(); ++i)
+      for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k)
+        if (i >= quarter || body.family.neighbour[k] >= quarter) body.bond_intact[k] = 1;
+  }
+  return body;
+}
+
+// The definition, evaluated directly: some point of {i} and i's family has a failed bond, or
+// some bond of i changes its vector by T L or more.
+std::vector<std::uint8_t> expected_exact(const Body& body, double T) {
+  const auto& f = body.family;
+  auto failed_row = [&](std::size_t p) {
+    for (std::size_t k = f.offset[p]; k < f.offset[p + 1]; ++k)
+      if (!body.bond_intact[k]) return true;
+    return false;
+  };
+  std::vector<std::uint8_t> exact(body.size(), 0);
+  for (std::size_t i = 0; i < body.size(); ++i) {
+    bool e = failed_row(i);
+    for (std::size_t k = f.offset[i]; k < f.offset[i + 1]; ++k) {
+      const std::uint32_t j = f.neighbour[k];
+      const double L = (body.reference_position[j] - body.reference_position[i]).norm();
+      e = e || failed_row(j) || (body.displacement[j] - body.displacement[i]).norm() >= T * L;
+    }
+    exact[i] = e;
+  }
+  return exact;
+}
+
+// Displacements small everywhere (1e-6 dx) and larger (1e-2 dx) in the body's first quarter
+// of points: a mixed state at T = 1e-4.
+void mixed_displacement(Body& body, std::mt19937& rng) {
+  kernel_comparison::perturb(body, 1e-6, rng);
+  std::uniform_real_distribution<double> u(-1e-2 * kernel_comparison::kDx,
+                                           1e-2 * kernel_comparison::kDx);
+  for (std::size_t i = 0; i < body.size() / 4; ++i)
+    body.displacement[i] += Vec3(u(rng), u(rng), body.dimension == 3 ? u(rng) : 0.0);
+}
+
+}  // namespace
+
+TEST_CASE(
+    "far field: exact points get the reference kernel's force, linear points the "
+    "linear operator's, classification as defined",
+    "[far_field]") {
+  kernel_comparison::ThreadCountGuard guard;
+  for (const FarScene& fs : scenes()) {
+    std::mt19937 rng(5);
+    Body body = scene_body(fs, 0.002, rng);
+    mixed_displacement(body, rng);
+    const double T = 1e-4;
+    ckpd::compute_internal_force(body, true);  // the reference kernel: every set, every point
+    const std::vector<Vec3> exact_force = body.force_density;
+    const double scale = kernel_comparison::max_norm(exact_force);
+    std::vector<Vec3> linear_force;
+    ckpd::FarField ff = ckpd::make_far_field(body, T);
+    ckpd::apply_linear_operator(ff.op, body, linear_force);
+    const std::vector<std::uint8_t> expected = expected_exact(body, T);
+    for (int threads : {1, 2}) {
+      omp_set_num_threads(threads);
+      ckpd::FarField f = ckpd::make_far_field(body, T);
+      for (auto& x : body.force_density) x = Vec3::Constant(1e300);
+      ckpd::compute_internal_force_far_field(body, f, true);
+      INFO(label(fs) << ", " << threads << " threads");
+      std::size_t exact = 0, mismatched = 0;
+      double worst_exact = 0;
+      bool linear_equal = true, energy_equal = true;
+      for (std::size_t i = 0; i < body.size(); ++i) {
+        mismatched += f.exact[i] != expected[i];
+        if (f.exact[i]) {
+          ++exact;
+          worst_exact = std::max(worst_exact, (body.force_density[i] - exact_force[i]).norm());
+        } else {
+          linear_equal = linear_equal && body.force_density[i] == linear_force[i];
+          energy_equal = energy_equal && body.strain_energy_density[i] ==
+                                             ckpd::linear_energy_density(ff.op, body, i);
+        }
+      }
+      CHECK(mismatched == 0);
+      CHECK(f.exact_count == exact);
+      CHECK(exact > 0);  // the state is mixed
+      CHECK(exact < body.size());
+      CHECK(worst_exact <= 1e-12 * scale);
+      CHECK(linear_equal);
+      CHECK(energy_equal);
+    }
+  }
+}
+
+TEST_CASE(
+    "far field with every point exact is the symmetric kernel bit for bit; with every "
+    "point linear the linear operator bit for bit",
+    "[far_field]") {
+  kernel_comparison::ThreadCountGuard guard;
+  for (const FarScene& fs : scenes()) {
+    std::mt19937 rng(8);
+    Body body = scene_body(fs, 0.0, rng);
+    kernel_comparison::perturb(body, 1e-8, rng);
+    for (int threads : {1, 2}) {
+      omp_set_num_threads(threads);
+      INFO(label(fs) << ", " << threads << " threads");
+      ckpd::compute_internal_force_symmetric(body, true);
+      const std::vector<Vec3> kernel = body.force_density;
+      const std::vector<double> kernel_energy = body.strain_energy_density;
+      ckpd::FarField tiny = ckpd::make_far_field(body, 1e-300);
+      ckpd::compute_internal_force_far_field(body, tiny, true);
+      CHECK(tiny.exact_count == body.size());
+      CHECK(body.force_density == kernel);
+      CHECK(body.strain_energy_density == kernel_energy);
+
+      ckpd::FarField huge = ckpd::make_far_field(body, 1e300);
+      std::vector<Vec3> linear;
+      ckpd::apply_linear_operator(huge.op, body, linear);
+      ckpd::compute_internal_force_far_field(body, huge, true);
+      CHECK(huge.exact_count == 0);
+      CHECK(body.force_density == linear);
+      // The linear force is the exact one to first order: at strain 1e-8, within 1e-3 of it.
+      double worst = 0;
+      for (std::size_t i = 0; i < body.size(); ++i)
+        worst = std::max(worst, (linear[i] - kernel[i]).norm());
+      CHECK(worst <= 1e-3 * kernel_comparison::max_norm(kernel));
+      // Quadratic energy: the exact energy to first order in the strain, where the forces are
+      // its gradient (energy_consistent; own_family's forces are not).
+      if (fs.form != ForceForm::energy_consistent) continue;
+      double e_lin = 0, e_exact = 0;
+      for (std::size_t i = 0; i < body.size(); ++i) {
+        e_lin += body.volume[i] * body.strain_energy_density[i];
+        e_exact += body.volume[i] * kernel_energy[i];
+      }
+      CHECK(std::abs(e_lin - e_exact) <= 1e-3 * std::abs(e_exact));
+    }
+  }
+}
+
+TEST_CASE("far field: a point once exact stays exact when its strain falls back", "[far_field]") {
+  const FarScene fs = scenes()[2];
+  std::mt19937 rng(3);
+  Body body = scene_body(fs, 0.0, rng);
+  mixed_displacement(body, rng);
+  ckpd::FarField ff = ckpd::make_far_field(body, 1e-4);
+  ckpd::classify_far_field(body, ff);
+  const std::vector<std::uint8_t> before = ff.exact;
+  REQUIRE(ff.exact_count > 0);
+  for (Vec3& u : body.displacement) u.setZero();
+  ckpd::classify_far_field(body, ff);
+  CHECK(ff.exact == before);
+}
