@@ -7,11 +7,11 @@
 // would give: the ratio, the measure's slope and curvature and the gradient norms are shared.
 // The quantities that depend on one pair of the set's vertices only (cross products of two
 // offsets, their norms, the distance between the two) are computed once per pair of the upper
-// family (PairTable). Against the point-by-point evaluation (reference/current_stiffness.cpp,
+// family (UpperFamily). Against the point-by-point evaluation (reference/current_stiffness.cpp,
 // which this file is tested against) a tetrahedron is evaluated once instead of four times,
-// with one square root for its four gradient norms' one unknown instead of seven; a
-// triangle's gradient norms are edge lengths (grad_c |a| = G_c x n with n normal to G_c).
-// Each worker sums into its own rows, added in worker order: deterministic per thread count.
+// with one square root (the centre's gradient norm; the other three are pair quantities) instead
+// of seven; a triangle's gradient norms are edge lengths (grad_c |a| = G_c x n with n normal to
+// G_c). Each worker sums into its own rows, added in worker order: deterministic per thread count.
 #include "bodies/current_stiffness.hpp"
 
 #include <omp.h>
@@ -173,7 +173,6 @@ void add_centre(const Model& model, const Body& body, std::size_t i, const Upper
   const bool planar = body.dimension == 2;
   const bool all_edges = body.damage_rule == DamageRule::all_edges;
   const double deg = body.degenerate_fraction;
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   auto q1 = [&](std::size_t p) { return &rows.q1[6 * p]; };
   auto shrink_at = [&](std::size_t p, double measure, double rate) {
     if (with_shrink) shrink(measure, rate, rows.shrink[p]);
@@ -327,7 +326,6 @@ void add_centre(const Model& model, const Body& body, std::size_t i, const Upper
       }
     }
   }
-  (void)kInf;
 }
 
 }  // namespace
