@@ -4,7 +4,8 @@
 // stress square, where the triangles do the work), at 1 and 2 OpenMP threads.
 //
 //   kernel_bench [--dim 3] [--n 24] [--m 3.015] [--nu 0.3] [--reps 7] [--ref-reps 3]
-//                [--threads 1,2] [--energy] [--jitter 0] [--order lex|morton]
+//                [--threads 1,2] [--energy] [--jitter 0] [--order lex|morton] [--strain-measure
+//                0.5]
 // --jitter j moves every point by up to +-j dx per component: an irregular cloud, whose slivers
 // (nearly flat tetrahedra) the fast kernel evaluates vertex by vertex. --order morton numbers
 // the points along a Morton curve (a space-filling-curve ordering; no lattice stencil then).
@@ -49,6 +50,7 @@ struct Options {
   bool energy = false;
   double jitter = 0;
   bool morton = false;  // number the points along a Morton (Z-order) curve instead of (z, y, x)
+  double strain_measure = 0.5;  // Seth-Hill m (1/2: the default linear law)
 };
 
 Options parse(int argc, char** argv) {
@@ -80,6 +82,8 @@ Options parse(int argc, char** argv) {
       o.jitter = std::stod(value());
     } else if (key == "--energy") {
       o.energy = true;
+    } else if (key == "--strain-measure") {
+      o.strain_measure = std::stod(value());
     } else if (key == "--order") {
       const std::string order = value();
       if (order != "lex" && order != "morton") throw std::invalid_argument("--order lex|morton");
@@ -137,6 +141,7 @@ ckpd::Body lattice_body(const Options& o) {
           ++offsets;
   // Jittered families can hold more points than the lattice's: keep beta <= 1.
   d.full_family_volume = offsets * cell * (o.jitter > 0 ? 1.5 : 1.0);
+  d.strain_measure = o.strain_measure;
   ckpd::Body body = ckpd::make_body(std::move(d));
   std::uniform_real_distribution<double> u(-1e-6, 1e-6);  // about 0.1% strain
   for (Vec3& x : body.displacement) x = Vec3(u(rng), u(rng), o.dim == 3 ? u(rng) : 0.0);

@@ -333,7 +333,7 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop_conservative(const Con
     if (ctx.all_edges) mi = mj = mk = ml;
     std::uint64_t todo = cand & (mi | mj | mk | ml);
 #if defined(CKPD_BATCHED_TETRAHEDRA)
-    if constexpr (batched_tetrahedra<Model>()) {
+    if constexpr (batched_tetrahedra<Model, kStencil>()) {
       // The sets active for all four vertices in blocks of 4 slots (tetrahedron_batch.hpp), the
       // others one by one below.
       std::uint64_t full = todo & mi & mj & mk & ml;
@@ -372,7 +372,7 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop_conservative(const Con
     }
   }
 #if defined(CKPD_BATCHED_TETRAHEDRA)
-  if constexpr (batched_tetrahedra<Model>()) {
+  if constexpr (batched_tetrahedra<Model, kStencil>()) {
     Ei += E;
     Ej += E;
     Ek += E;

@@ -7,12 +7,13 @@
 // of the slots' offsets and weights, every lane computed, the lanes without a tetrahedron (or,
 // on the general path, with an ill-conditioned one) masked to f = 0 and en = 0; no gather. Built
 // when the compiler targets AVX2 (one 256-bit register of 4 doubles; GCC vector extensions);
-// other builds, and the Seth-Hill measures other than m = 1/2 (their log1p/expm1 per set), keep
-// the scalar loop. Per tetrahedron the lanes compute what the scalar loop computes, operation
-// for operation; only the order of the sums over c (S, F, E: per lane, then across lanes)
-// differs.
+// other builds keep the scalar loop. The Seth-Hill measures (m != 1/2) are batched on the general
+// path, their strain lane by lane where it needs log1p/expm1 (seth_hill_lanes). Per tetrahedron the
+// lanes compute what the scalar loop computes, operation for operation; only the order of the sums
+// over c (S, F, E: per lane, then across lanes) differs.
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
@@ -60,9 +61,25 @@ constexpr bool linear_strain_law() {
   }
 }
 
+// Whether a model has a strain law at all (the CKPD law: LinearStrain or SethHillStrain).
 template <class Model>
+constexpr bool has_strain_law() {
+  return requires {
+    std::remove_cvref_t<decltype(std::declval<const Model&>().strain)>::kLinear;
+  };
+}
+
+// Which tetrahedra go in batches: the linear law (m = 1/2) on both paths; a Seth-Hill measure on
+// the general path only. Measured (docs/PERFORMANCE.md, "Batched Seth-Hill tetrahedra"): on the
+// general path the batch gains 1.2x at m = -1/2, on the stencil path it lost 1.3-1.4x against
+// the scalar loop, whose stencil sets need no division for v / V.
+template <class Model, bool kStencil>
 constexpr bool batched_tetrahedra() {
-  return kTetrahedronBatch > 0 && Model::kTetrahedra && linear_strain_law<Model>();
+  if constexpr (kTetrahedronBatch > 0 && Model::kTetrahedra && has_strain_law<Model>()) {
+    return linear_strain_law<Model>() || !kStencil;
+  } else {
+    return false;
+  }
 }
 
 #if defined(CKPD_BATCHED_TETRAHEDRA)
@@ -183,6 +200,39 @@ struct Geometry {
   }
 };
 
+// The Seth-Hill slope factor e_m(r) r^(2m - 1) and, with kStrain, e_m(r) per lane, from
+// d = r - 1, operation for operation as SethHillStrain::factor and ::strain compute them: m = -1/2
+// in vector arithmetic (one division), m = 0 and any other m lane by lane (log1p, expm1: no
+// vector forms in the C library without -ffast-math), only in the lanes of `use` (the others,
+// whatever d they hold, get 0: the caller masks them).
+template <bool kStrain, class Strain>
+inline void seth_hill_lanes(const Strain& law, d4 d, unsigned use, d4& factor, d4& strain) {
+  if (law.m == -0.5) {
+    const d4 r = splat(1.0) + d;
+    const d4 ir = splat(1.0) / r;
+    factor = d * ir * ir * ir;
+    if constexpr (kStrain) strain = d / r;
+    return;
+  }
+  // Through plain arrays: element writes into a vector variable keep it in memory for the whole
+  // block, which cost more than the batch saved (measured on the stencil path).
+  alignas(8 * kW) double dl[kW], fl[kW] = {}, sl[kW] = {};
+  store(dl, d);
+  for (; use; use &= use - 1) {
+    const int l = std::countr_zero(use);
+    if (law.m == 0) {
+      const double lr = std::log1p(dl[l]);
+      fl[l] = lr / (1 + dl[l]);
+      sl[l] = lr;
+    } else {
+      fl[l] = law.factor(dl[l]);
+      if constexpr (kStrain) sl[l] = law.strain(dl[l]);
+    }
+  }
+  factor = load(fl);
+  if constexpr (kStrain) strain = load(sl);
+}
+
 // One block of 4 slots c0..c0+3 of the pair: per lane the tetrahedron's coefficient f, its
 // energy measure en (penalty included) and the current offset r of c; lanes outside `use` have
 // f = en = 0.
@@ -216,14 +266,24 @@ inline Block evaluate(const Model& model, const Geometry& g, std::size_t c0, uns
   const d4 v = g.q0 * k.r0 + g.q1 * k.r1 + g.q2 * k.r2;
   const d4 ratio = kStencil ? v * M : v / M;  // V.over(v)
   const d4 sgn = sign(v);
-  d4 f = ratio - sgn;
+  // tetrahedron_coefficient and tetrahedron_energy_measure's e: the linear law from v / V
+  // itself, a Seth-Hill law from d = |v| / V - 1 (= |v / V| - 1; a collapsed tetrahedron,
+  // v = 0, gets no force).
+  d4 f, e = zero;
+  if constexpr (linear_strain_law<Model>()) {
+    f = ratio - sgn;
+    if constexpr (kEnergy) e = abs(ratio) - one;
+  } else {
+    d4 factor;
+    seth_hill_lanes<kEnergy>(model.strain, abs(ratio) - one, k.use, factor, e);
+    f = v != 0 ? factor * sgn : zero;
+  }
   const i4 inverted = use & (v * signed_ref < 0);  // tetrahedron_inverted: v * signed V < 0
   if constexpr (kEnergy) k.inverted = bits(inverted);
   if constexpr (kPenalty) f = inverted ? f + splat(model.pen3) * sgn : f;
   k.f = use ? f : zero;
   if constexpr (kEnergy) {
-    // tetrahedron_energy_measure: e = |v| / V - 1 (= |v / V| - 1), V e^2 (stencil: e^2 / (1/V)).
-    const d4 e = abs(ratio) - one;
+    // V e^2 (stencil: e^2 / (1/V)).
     d4 en = kStencil ? e * e / M : M * e * e;
     if constexpr (kPenalty) en = inverted ? en + splat(2 * model.pen3) * abs(v) : en;
     k.en = use ? en : zero;

@@ -154,7 +154,7 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop(const Context<Model>& 
     std::uint64_t full = cand & mi & mj & mk & ml;
     std::uint64_t part = cand & (mi | mj | mk | ml) & ~full;
 #if defined(CKPD_BATCHED_TETRAHEDRA)
-    if constexpr (batched_tetrahedra<Model>()) {
+    if constexpr (batched_tetrahedra<Model, kStencil>()) {
       // Blocks of 4 slots with any such c (tetrahedron_batch.hpp), weighed by k3 per slot.
       batch::book_full_blocks<Model, kEnergy, kPenalty, kStencil>(
           model, geometry, st, full, wc, kStencil ? triple_row[wc] : 0, word_triple, ctx.well3,
