@@ -41,6 +41,9 @@ KW_SPACING = 0.001125
 KW_RATIO = 3.015  # horizon_ratio: the horizon is 3.015 spacings at every resolution
 
 
+_CENSUS = {}  # census of one family cut, by (horizon^2, sets counted, canonical cut)
+
+
 class Lattice:
     """A cell-centred box lattice with cubic families of `ratio` spacings (one body)."""
 
@@ -92,9 +95,17 @@ class Lattice:
         w = np.empty(len(classes))
         counts = np.empty((len(classes), 3), dtype=np.int64)
         for c, key in enumerate(classes):
-            o = self.offsets
-            keep = np.all((o >= -key[:3]) & (o <= key[3:]), axis=1)
-            n1, n2, n3 = self.census(o[keep])
+            # The stencil and the counts are unchanged by reflecting or permuting the axes: one
+            # census per canonical cut (20 of them for a large box, not 343).
+            canonical = tuple(sorted(tuple(sorted((int(key[d]), int(key[3 + d]))))
+                                     for d in range(3)))
+            memo = (self.limit2, self.triangles, self.tetrahedra, canonical)
+            if memo not in _CENSUS:
+                lo = np.array([a for a, _ in canonical])
+                hi = np.array([b for _, b in canonical])
+                o = self.offsets
+                _CENSUS[memo] = self.census(o[np.all((o >= -lo) & (o <= hi), axis=1)])
+            n1, n2, n3 = _CENSUS[memo]
             counts[c] = (n1, n2, n3)
             # point_work, operation for operation.
             w[c] = BOND_OPS * (n1 / 2) + TRIANGLE_OPS * (n2 / 2.0 / 3.0) + \
