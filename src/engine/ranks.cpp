@@ -90,7 +90,8 @@ int count() {
   return 1;
 }
 
-void sum_in_rank_order(std::vector<double>& data, [[maybe_unused]] std::vector<double>& gathered) {
+void sum_in_rank_order([[maybe_unused]] std::vector<double>& data,
+                       [[maybe_unused]] std::vector<double>& gathered) {
 #ifdef CKPD_WITH_MPI
   const int n = count();
   if (n == 1) return;

@@ -2,9 +2,12 @@
 # The MPI tests (issue 14), registered with ctest in tests/CMakeLists.txt. Runs of one case at
 # 1, 2 and 3 ranks (one thread each) must agree (compare_runs.py: positions to 1e-12 relative,
 # the same broken bonds, fragments and damage); a checkpoint written at 2 ranks continued at 3
-# must equal the uninterrupted run; bad input must print one error and exit 2 on every rank.
-# Exit 77 (skipped) for a build without MPI.
-#   mpi_check.sh CKPD SOURCE_DIR WORK_DIR equivalence CASE | restart CASE | errors
+# must equal the uninterrupted run; bad input must print one error and exit 2 on every rank; a
+# body with a far field (evaluated whole on every rank) must agree at 1 and 2 ranks; SIGTERM sent
+# to one rank must stop every rank after the same step with a checkpoint that continues to the
+# uninterrupted run. Exit 77 (skipped) for a build without MPI.
+#   mpi_check.sh CKPD SOURCE_DIR WORK_DIR equivalence CASE | restart CASE | errors |
+#                far_field CASE | signal CASE
 set -eu
 ckpd=$1 src=$2 work=$3 what=$4
 case_file=${5:+$src/$5}
@@ -32,6 +35,59 @@ restart)
     --set output.checkpoint_interval=120
   mpi 3 "$ckpd" run "$case_file" --out "$work/split" --quiet --restart "$work/split/checkpoint.h5"
   $python "$src/tests/mpi/compare_runs.py" "$work/whole" "$work/split"
+  ;;
+far_field)
+  OMP_NUM_THREADS=1 "$ckpd" run "$case_file" --out "$work/np1" --quiet
+  mpi 2 "$ckpd" run "$case_file" --out "$work/np2" --quiet
+  # The far field must have been in use: some points linear, some exact at the end.
+  $python - "$work/np1/summary.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+f = [b["far_field"]["exact_fraction"] for b in s["bodies"] if "far_field" in b]
+print(f"far-field exact fractions at the end: {f}")
+sys.exit(0 if f and all(0 < x < 1 for x in f) else 1)
+PY
+  $python "$src/tests/mpi/compare_runs.py" "$work/np1" "$work/np2"
+  ;;
+signal)
+  # Two ranks run far past the case's end; once rank 0 has written the history row of step 200
+  # (the bead reaches the plate about then), rank 1 alone gets SIGTERM. Each rank's wrapper records its ckpd's pid and exit status.
+  rm -f "$work"/pid.* "$work"/status.*
+  mpi 2 sh -c '"$0" "$@" & echo $! > '"$work"'/pid.$OMPI_COMM_WORLD_RANK; wait $!;
+               echo $? > '"$work"'/status.$OMPI_COMM_WORLD_RANK' \
+    "$ckpd" run "$case_file" --out "$work/split" --quiet --set time.steps=1000000 \
+    --set output.field_interval=1000000 2>"$work/err" &
+  launcher=$!
+  tries=0
+  until [ -f "$work/pid.1" ] && [ "$(wc -l 2>/dev/null <"$work/split/history.csv" || echo 0)" -ge 12 ]; do
+    tries=$((tries + 1))
+    if [ $tries -gt 1200 ]; then
+      echo "the run did not start stepping in 120 s"
+      kill $(cat "$work"/pid.* 2>/dev/null) 2>/dev/null || true
+      exit 1
+    fi
+    sleep 0.1
+  done
+  kill -TERM "$(cat "$work/pid.1")"
+  wait "$launcher" || true
+  for r in 0 1; do
+    [ "$(cat "$work/status.$r")" = 130 ] || { echo "rank $r exited $(cat "$work/status.$r"), not 130"; cat "$work/err"; exit 1; }
+  done
+  [ "$(grep -c 'interrupted by a signal at step' "$work/err")" = 1 ] || { echo "expected one stop message:"; cat "$work/err"; exit 1; }
+  [ -f "$work/split/checkpoint.h5" ] || { echo "no checkpoint"; exit 1; }
+  stopped=$($python -c 'import json,sys; s=json.load(open(sys.argv[1])); print(s["status"], s["steps"])' \
+    "$work/split/summary.json")
+  echo "both ranks exited 130; summary: $stopped; $(cat "$work/err")"
+  [ "${stopped% *}" = interrupted ] || { echo "summary status is not 'interrupted'"; exit 1; }
+  # Continue 120 steps past the stop (through the fracture) and compare with one process run
+  # straight to that step.
+  steps=$((${stopped#* } + 120))
+  mpi 2 "$ckpd" run "$case_file" --out "$work/split" --quiet --restart "$work/split/checkpoint.h5" \
+    --set time.steps=$steps --set output.field_interval=$steps
+  OMP_NUM_THREADS=1 "$ckpd" run "$case_file" --out "$work/whole" --quiet --set time.steps=$steps \
+    --set output.field_interval=$steps
+  $python "$src/tests/mpi/compare_runs.py" "$work/whole" "$work/split" \
+    --extra-history-step "${stopped#* }"
   ;;
 errors)
   # Each rank writes its exit status; stderr must hold the error exactly once.
