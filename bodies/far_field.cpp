@@ -71,14 +71,17 @@ SymmetricKernelStats compute_internal_force_far_field(Body& body, FarField& ff, 
                                                       SymmetricKernelWorkspace& workspace) {
   classify_far_field(body, ff);
   workspace.skip_centre = ff.skip.data();
+  workspace.exact_point = ff.mask_sets ? ff.exact.data() : nullptr;
   SymmetricKernelStats stats;
   try {
     stats = compute_internal_force_symmetric(body, with_energy, workspace);
   } catch (...) {
     workspace.skip_centre = nullptr;
+    workspace.exact_point = nullptr;
     throw;
   }
   workspace.skip_centre = nullptr;
+  workspace.exact_point = nullptr;
   apply_linear_operator_rows(ff.op, body, ff.exact.data(), body.force_density);
   if (with_energy) {
     const std::size_t n = body.size();

@@ -13,7 +13,9 @@
 // reference state and every Seth-Hill measure has the same linearisation there (e_m'(1) = 1).
 #include <Eigen/Core>
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
+#include <exception>
 #include <stdexcept>
 #include <vector>
 
@@ -78,7 +80,8 @@ inline void column_table(const Body& body, std::uint32_t centre, const FamilyScr
 
 // Adds scale * lin.block(v, w) for every vertex pair of one set to the rows `rows` lists
 // (vertex v is point vertex[v], at slot slot[v] of the centre's column table); with
-// `only_centre`, to vertex 0's row alone.
+// `only_centre`, to vertex 0's row alone. The serial assembly's way (reference/ keeps it for
+// the tests): straight into the global rows, set by set.
 template <int kVertices>
 inline void add_set(LinearOperator& op, const SetLinearisation<kVertices>& lin,
                     const std::uint32_t (&vertex)[kVertices], const std::size_t (&slot)[kVertices],
@@ -97,76 +100,169 @@ inline void add_set(LinearOperator& op, const SetLinearisation<kVertices>& lin,
   }
 }
 
-// Row i's blocks for a given model (its table's `linearise` entry, force_model_kernels.hpp); op
-// must hold the rows' zeroed blocks (reference_linear_operator allocates them).
-}  // namespace linear_operator_detail
+// The same into one centre's local blocks (slot-indexed, local[a * m + b]: row slot a, column
+// slot b), as a rank-one update per row: (-C/R scale_v g_v) g_w^T.
+template <int kVertices>
+inline void add_set_local(Eigen::Matrix3d* local, const SetLinearisation<kVertices>& lin,
+                          const std::size_t (&slot)[kVertices],
+                          const std::vector<std::size_t>& table, std::size_t m,
+                          const double (&scale)[kVertices], bool only_centre) {
+  const double curvature = -lin.curvature();
+  for (int v = 0; v < (only_centre ? 1 : kVertices); ++v) {
+    const Vec3 h = (curvature * scale[v]) * lin.gradient[static_cast<std::size_t>(v)];
+    Eigen::Matrix3d* row = local + slot[v] * m;
+    for (int w = 0; w < kVertices; ++w) {
+      if (table[slot[v] * m + slot[w]] == kNoColumn)
+        throw std::logic_error(
+            "linear operator: a set's vertices are not in each other's families");
+      row[slot[w]].noalias() += h * lin.gradient[static_cast<std::size_t>(w)].transpose();
+    }
+  }
+}
 
-template <class Model>
-void assemble_linear_operator_of(const Model& model, const Body& body, LinearOperator& op) {
-  const std::size_t n = body.size();
+// Adds one centre's local blocks to the global rows of its points (only the centre's row with
+// `only_centre`) and zeroes them again (every block a set wrote has a column: add_set_local
+// checked it).
+inline void apply_local(LinearOperator& op, std::uint32_t centre, const FamilyScratch& s,
+                        const std::vector<std::size_t>& table, Eigen::Matrix3d* local,
+                        bool only_centre) {
+  const std::size_t m = s.size() + 1;
+  for (std::size_t a = 0; a < (only_centre ? 1 : m); ++a) {
+    Eigen::Matrix3d* blocks = &op.block[op.offset[a == 0 ? centre : s.index[a - 1]]];
+    Eigen::Matrix3d* row = local + a * m;
+    const std::size_t* columns = &table[a * m];
+    for (std::size_t b = 0; b < m; ++b) {
+      if (columns[b] == kNoColumn) continue;
+      blocks[columns[b]] += row[b];
+      row[b].setZero();
+    }
+  }
+}
+
+// Calls visit(lin, vertex, slot, scale) for every set of centre c that the kernels evaluate
+// (s holds c's family, loaded as the kernels load it), bonds first, then triangles and
+// tetrahedra in the scratch's order. scale[v] is vertex v's weight: under energy_consistent
+// V^c w / ((n + 1) V^d), under own_family the centre's force weight w (only its row is used).
+template <class Model, class Visit>
+inline void for_each_set(const Model& model, const Body& body, std::size_t c,
+                         const FamilyScratch& s, Visit&& visit) {
   const bool pairs = Model::kTriangles && model.has_triangles();
   const bool triples = Model::kTetrahedra && model.has_tetrahedra();
-  // By the body's key, as the reference kernel decides (the table follows it in a case).
   const bool energy_consistent = body.force_form == ForceForm::energy_consistent;
   const double degenerate = body.degenerate_fraction;
   const std::vector<double>& V = body.volume;
-  FamilyScratch s;
-  std::vector<std::size_t> table;
-  for (std::size_t c = 0; c < n; ++c) {
-    s.load(body, c, body.damage_enabled, pairs || triples);
-    const std::uint32_t centre = static_cast<std::uint32_t>(c);
-    linear_operator_detail::column_table(body, centre, s, table);
-    const std::size_t m = s.size() + 1;
-    // The centre's force weight per set of each order; under energy_consistent vertex d's
-    // share is V^c w / ((n + 1) V^d), under own_family only the centre's row takes w.
-    auto scales = [&](double w, int vertices, const std::uint32_t* vertex, double* scale) {
-      for (int v = 0; v < vertices; ++v)
-        scale[v] = energy_consistent ? V[c] * w / (vertices * V[vertex[v]]) : w;
-    };
-    const double w1 = body.dv1[c];
-    for (std::size_t a = 0; a < s.size(); ++a) {
-      const std::uint32_t vertex[2] = {centre, s.index[a]};
-      double scale[2];
-      scales(w1, 2, vertex, scale);
-      const std::size_t slot[2] = {0, 1 + a};
-      linear_operator_detail::add_set<2>(op, model.bond_linearisation(s.ref[a]), vertex, slot,
-                                         table, m, scale, !energy_consistent);
-    }
-    if constexpr (Model::kTriangles) {
-      if (pairs) {
-        const double w2 = model.triangle_force_weight(body.dv2[c]);
-        s.for_each_pair([&](std::size_t a, std::size_t e) {
-          if (model.triangle_term(s.ref[a], s.ref[e], s.ref[a], s.ref[e], degenerate).degenerate)
-            return;
-          const std::uint32_t vertex[3] = {centre, s.index[a], s.index[e]};
-          double scale[3];
-          scales(w2, 3, vertex, scale);
-          const std::size_t slot[3] = {0, 1 + a, 1 + e};
-          linear_operator_detail::add_set<3>(op, model.triangle_linearisation(s.ref[a], s.ref[e]),
-                                             vertex, slot, table, m, scale, !energy_consistent);
-        });
-      }
-    }
-    if constexpr (Model::kTetrahedra) {
-      if (triples) {
-        const double w3 = model.tetrahedron_force_weight(body.dv3[c]);
-        s.for_each_triple([&](std::size_t a, std::size_t e, std::size_t f) {
-          if (model
-                  .tetrahedron_term(s.ref[a], s.ref[e], s.ref[f], s.ref[a], s.ref[e], s.ref[f],
-                                    degenerate)
-                  .degenerate)
-            return;
-          const std::uint32_t vertex[4] = {centre, s.index[a], s.index[e], s.index[f]};
-          double scale[4];
-          scales(w3, 4, vertex, scale);
-          const std::size_t slot[4] = {0, 1 + a, 1 + e, 1 + f};
-          linear_operator_detail::add_set<4>(
-              op, model.tetrahedron_linearisation(s.ref[a], s.ref[e], s.ref[f]), vertex, slot,
-              table, m, scale, !energy_consistent);
-        });
-      }
+  const std::uint32_t centre = static_cast<std::uint32_t>(c);
+  auto scales = [&](double w, int vertices, const std::uint32_t* vertex, double* scale) {
+    for (int v = 0; v < vertices; ++v)
+      scale[v] = energy_consistent ? V[c] * w / (vertices * V[vertex[v]]) : w;
+  };
+  const double w1 = body.dv1[c];
+  for (std::size_t a = 0; a < s.size(); ++a) {
+    const std::uint32_t vertex[2] = {centre, s.index[a]};
+    double scale[2];
+    scales(w1, 2, vertex, scale);
+    const std::size_t slot[2] = {0, 1 + a};
+    visit(model.bond_linearisation(s.ref[a]), vertex, slot, scale);
+  }
+  if constexpr (Model::kTriangles) {
+    if (pairs) {
+      const double w2 = model.triangle_force_weight(body.dv2[c]);
+      s.for_each_pair([&](std::size_t a, std::size_t e) {
+        if (model.triangle_term(s.ref[a], s.ref[e], s.ref[a], s.ref[e], degenerate).degenerate)
+          return;
+        const std::uint32_t vertex[3] = {centre, s.index[a], s.index[e]};
+        double scale[3];
+        scales(w2, 3, vertex, scale);
+        const std::size_t slot[3] = {0, 1 + a, 1 + e};
+        visit(model.triangle_linearisation(s.ref[a], s.ref[e]), vertex, slot, scale);
+      });
     }
   }
+  if constexpr (Model::kTetrahedra) {
+    if (triples) {
+      const double w3 = model.tetrahedron_force_weight(body.dv3[c]);
+      s.for_each_triple([&](std::size_t a, std::size_t e, std::size_t f) {
+        if (model
+                .tetrahedron_term(s.ref[a], s.ref[e], s.ref[f], s.ref[a], s.ref[e], s.ref[f],
+                                  degenerate)
+                .degenerate)
+          return;
+        const std::uint32_t vertex[4] = {centre, s.index[a], s.index[e], s.index[f]};
+        double scale[4];
+        scales(w3, 4, vertex, scale);
+        const std::size_t slot[4] = {0, 1 + a, 1 + e, 1 + f};
+        visit(model.tetrahedron_linearisation(s.ref[a], s.ref[e], s.ref[f]), vertex, slot, scale);
+      });
+    }
+  }
+}
+}  // namespace linear_operator_detail
+
+// Row i's blocks for a given model (its table's `linearise` entry, force_model_kernels.hpp); op
+// must hold the rows' zeroed blocks (reference_linear_operator allocates them).
+// Parallel over centres and the same bit for bit at every thread count: each centre's sets are
+// summed, in the serial order, into the thread's local blocks (one per pair of the centre's
+// points, column_table), which are then added to the global rows in centre order (an ordered
+// loop; under own_family only the centre's own row is written, so no order is needed). Against
+// the serial, set-by-set assembly (reference/linear_operator.hpp) only the association of the
+// sums differs: equal to round-off (tests/test_linear_operator.cpp).
+template <class Model>
+void assemble_linear_operator_of(const Model& model, const Body& body, LinearOperator& op) {
+  const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(body.size());
+  const bool sets = (Model::kTriangles && model.has_triangles()) ||
+                    (Model::kTetrahedra && model.has_tetrahedra());
+  // By the body's key, as the reference kernel decides (the table follows it in a case).
+  const bool energy_consistent = body.force_form == ForceForm::energy_consistent;
+  const bool only_centre = !energy_consistent;
+  std::exception_ptr error;
+  std::atomic<bool> failed{false};
+#pragma omp parallel
+  {
+    FamilyScratch s;
+    std::vector<std::size_t> table;
+    std::vector<Eigen::Matrix3d> local;  // zero between centres (apply_local zeroes it)
+    // Centre c's sets into `local`; false once some centre has thrown (the error is kept).
+    auto accumulate = [&](std::ptrdiff_t c) {
+      if (failed.load(std::memory_order_relaxed)) return false;
+      try {
+        s.load(body, static_cast<std::size_t>(c), body.damage_enabled, sets);
+        const std::uint32_t centre = static_cast<std::uint32_t>(c);
+        linear_operator_detail::column_table(body, centre, s, table);
+        const std::size_t m = s.size() + 1;
+        if (local.size() < m * m) local.resize(m * m, Eigen::Matrix3d::Zero());
+        linear_operator_detail::for_each_set(
+            model, body, static_cast<std::size_t>(c), s,
+            [&](const auto& lin, const auto& vertex, const auto& slot, const auto& scale) {
+              (void)vertex;
+              linear_operator_detail::add_set_local(local.data(), lin, slot, table, m, scale,
+                                                    only_centre);
+            });
+        return true;
+      } catch (...) {
+#pragma omp critical(ckpd_linear_operator_error)
+        if (!error) error = std::current_exception();
+        failed = true;
+        return false;
+      }
+    };
+    if (energy_consistent) {
+#pragma omp for ordered schedule(dynamic, 1)
+      for (std::ptrdiff_t c = 0; c < n; ++c) {
+        const bool ok = accumulate(c);
+#pragma omp ordered
+        if (ok)
+          linear_operator_detail::apply_local(op, static_cast<std::uint32_t>(c), s, table,
+                                              local.data(), false);
+      }
+    } else {
+#pragma omp for schedule(dynamic, 16)
+      for (std::ptrdiff_t c = 0; c < n; ++c)
+        if (accumulate(c))
+          linear_operator_detail::apply_local(op, static_cast<std::uint32_t>(c), s, table,
+                                              local.data(), true);
+    }
+  }
+  if (error) std::rethrow_exception(error);
 }
 
 }  // namespace ckpd

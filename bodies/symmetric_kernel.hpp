@@ -58,6 +58,10 @@ class SymmetricKernelWorkspace {
   // The far field (far_field.hpp): when set, centres i with skip_centre[i] != 0 are not
   // processed (nothing exact among i and its upper family); null: every centre.
   const std::uint8_t* skip_centre = nullptr;
+  // The far field's exact points (exact_point[i] != 0): when set, a set none of whose vertices
+  // is exact is not evaluated (its forces would land on linear points only, whose rows the
+  // linear operator overwrites); null: every set of a processed centre.
+  const std::uint8_t* exact_point = nullptr;
 
  private:
   std::vector<std::unique_ptr<SymmetricKernelThread>> threads_;

@@ -25,8 +25,11 @@ inline void bond_loop(const Context<Model>& ctx, SymmetricKernelThread& t, Centr
   const double dv1i = body.dv1[centre.index];
   double fix = 0, fiy = 0, fiz = 0, wi = 0;
   std::uint64_t bonds = 0;
+  // Far-field masking: a linear centre's bonds to linear points are left out.
+  const std::uint64_t* exact_slots = t.linear_centre ? t.exact_slots.data() : nullptr;
   for (std::size_t wd = 0; wd < W; ++wd) {
-    for (std::uint64_t bits = own[wd]; bits; bits &= bits - 1) {
+    const std::uint64_t mask = exact_slots != nullptr ? exact_slots[wd] : ~std::uint64_t{0};
+    for (std::uint64_t bits = own[wd] & mask; bits; bits &= bits - 1) {
       const std::size_t a = wd * 64 + static_cast<std::size_t>(std::countr_zero(bits));
       double L, inv_L;
       if constexpr (kStencil) {

@@ -29,8 +29,11 @@ inline void bond_loop_conservative(const Context<Model>& ctx, SymmetricKernelThr
   const double Vi = body.volume[centre.index], xi = Vi * dv1i, inv_vi = 1 / Vi;
   double fix = 0, fiy = 0, fiz = 0, wi = 0;
   std::uint64_t bonds = 0;
+  // Far-field masking: a linear centre's bonds to linear points are left out.
+  const std::uint64_t* exact_slots = t.linear_centre ? t.exact_slots.data() : nullptr;
   for (std::size_t wd = 0; wd < W; ++wd) {
-    for (std::uint64_t bits = own[wd]; bits; bits &= bits - 1) {
+    const std::uint64_t mask = exact_slots != nullptr ? exact_slots[wd] : ~std::uint64_t{0};
+    for (std::uint64_t bits = own[wd] & mask; bits; bits &= bits - 1) {
       const std::size_t a = wd * 64 + static_cast<std::size_t>(std::countr_zero(bits));
       double L, inv_L;
       if constexpr (kStencil) {
@@ -325,6 +328,7 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop_conservative(const Con
     } else {
       cand = pr.ra[wc] & rb[wc];
     }
+    if (pr.only != nullptr) cand &= pr.only[wc];
     if (!cand) continue;
     // Per vertex, the c whose tetrahedron is active for it (as in tetrahedron_loop.hpp).
     const std::uint64_t ml = ctx.all_edges && !pr.edges_ab ? 0 : own[wc] & ia[wc] & ib[wc];

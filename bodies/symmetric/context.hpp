@@ -43,6 +43,11 @@ struct SymmetricKernelThread {
   std::size_t count = 0;
   // The intact rows are the adjacency rows (no failed bond among i and its upper neighbours).
   bool intact_is_adjacency = false;
+  // The far field's per-set masking (SymmetricKernelWorkspace::exact_point): linear_centre, i
+  // is linear and masking is on; exact_slots, the present slots whose point is exact (filled
+  // only for a linear centre).
+  bool linear_centre = false;
+  std::vector<std::uint64_t> exact_slots;
 
   SymmetricKernelStats stats;
 
@@ -63,6 +68,7 @@ struct SymmetricKernelThread {
     if (own.size() < row_words) {
       own.resize(row_words);
       present.resize(row_words);
+      exact_slots.resize(row_words);
     }
     if (adj.size() < slots * row_words) {
       adj.resize(slots * row_words);
@@ -120,6 +126,8 @@ struct ContextBase {
   bool bond_intact(std::size_t k) const { return intact == nullptr || intact[k] != 0; }
   // DamageRule::all_edges with damage on: a set is active for all its vertices or none.
   bool all_edges = false;
+  // The far field's exact points, or null (SymmetricKernelWorkspace::exact_point).
+  const std::uint8_t* exact = nullptr;
 };
 
 // The context with the body's force model: the kernels ask it for every set's law.
@@ -213,6 +221,16 @@ inline void fill_slot(const Context<Model>& ctx, SymmetricKernelThread& t, std::
     if constexpr (Model::kTetrahedra) t.x3[a] = body.volume[j] * t.k3[a];
   }
   t.fx[a] = t.fy[a] = t.fz[a] = t.w[a] = 0;
+}
+
+// After a load: whether centre i is linear under the far field's masking, and then which of
+// its present slots (t.list) hold exact points.
+inline void mark_exact_slots(const ContextBase& ctx, SymmetricKernelThread& t, std::size_t i) {
+  t.linear_centre = ctx.exact != nullptr && ctx.exact[i] == 0;
+  if (!t.linear_centre) return;
+  std::fill_n(t.exact_slots.begin(), t.words, 0);
+  for (std::size_t n = 0; n < t.count; ++n)
+    if (ctx.exact[t.up[t.list[n]]] != 0) set_bit(t.exact_slots.data(), t.list[n]);
 }
 
 // Rows by merging CSR rows: for each present slot a (in list order) and each later present slot

@@ -13,6 +13,7 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
   Context<Model> ctx;
   static_cast<ContextBase&>(ctx) = make_context_base(body);
   ctx.model = Model::of(body);
+  ctx.exact = workspace.exact_point;
   workspace.ensure_threads(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
   if (uses_lattice_stencil(body)) {
     ctx.stencil = body.stencil.get();

@@ -36,6 +36,7 @@ inline std::size_t load_upper_family(const Context<Model>& ctx, std::size_t i,
     fill_slot(ctx, t, a, j, Xi, ui);
     if (ctx.bond_intact(first + a)) set_bit(t.own.data(), a);
   }
+  mark_exact_slots(ctx, t, i);
   if (!rows) return m;
   merge_csr_rows(ctx, t, t.adj.data());
   return m;

@@ -39,6 +39,7 @@ inline std::size_t load_upper_family_stencil(const Context<Model>& ctx, std::siz
     if (ctx.bond_intact(first + n)) set_bit(t.own.data(), a);
     if (ctx.row_failed != nullptr) failed_near = failed_near || ctx.row_failed[j] != 0;
   }
+  mark_exact_slots(ctx, t, i);
   if (!rows) return count;
   const std::uint64_t* present = t.present.data();
   for (std::size_t n = 0; n < count; ++n) {

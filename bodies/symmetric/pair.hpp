@@ -18,6 +18,9 @@ struct Pair {
   // Row a of the adjacency and of the intact adjacency.
   const std::uint64_t* ra = nullptr;
   const std::uint64_t* ia = nullptr;
+  // Far-field masking: i, a and b are all linear, so the triangle is left out and only the
+  // tetrahedra whose fourth vertex is in this row (the exact slots) are evaluated; null: all.
+  const std::uint64_t* only = nullptr;
 };
 
 }  // namespace ckpd::symmetric

@@ -34,11 +34,22 @@ void process_point(const Context<Model>& ctx, std::size_t i, SymmetricKernelThre
     const std::uint32_t* list = t.list.data();
     const std::size_t W = t.words;
     const std::uint64_t* own = t.own.data();
+    const std::uint64_t* exact_slots = t.linear_centre ? t.exact_slots.data() : nullptr;
+    // Some word of `row` (from word `from` on) shares an exact slot.
+    auto meets_exact = [&](const std::uint64_t* row, std::size_t from) {
+      for (std::size_t w = from; w < W; ++w)
+        if (row[w] & exact_slots[w]) return true;
+      return false;
+    };
     for (std::size_t n = 0; n < count && rows; ++n) {
       Pair pr;
       const std::size_t a = list[n];
       pr.a = a;
       pr.ra = &t.adj[a * W];
+      // Far-field masking, i and a linear: every set on (a, b) holds b and its c in row a, so
+      // with no exact slot there, nothing on slot a is evaluated.
+      const bool linear_a = exact_slots != nullptr && !bit(exact_slots, a);
+      if (linear_a && !meets_exact(pr.ra, a >> 6)) continue;
       pr.ia = t.intact_is_adjacency ? pr.ra : &t.adj_intact[a * W];
       // Stencil path: pair (a, b) is number pair_base[a] + the rank of b in a's stencil row.
       std::size_t pair_rank = kStencil ? st->pair_base[a] : 0;
@@ -57,6 +68,16 @@ void process_point(const Context<Model>& ctx, std::size_t i, SymmetricKernelThre
         }
         for (std::uint64_t bbits = pr.ra[wb]; bbits; bbits &= bbits - 1) {
           const std::size_t b = wb * 64 + static_cast<std::size_t>(std::countr_zero(bbits));
+          pr.only = nullptr;
+          if (linear_a && !bit(exact_slots, b)) {
+            // i, a, b linear: only tetrahedra with an exact fourth vertex c (in rows a and b).
+            const std::uint64_t* rb = &t.adj[b * W];
+            bool any = false;
+            for (std::size_t w = b >> 6; w < W && !any; ++w)
+              any = (pr.ra[w] & rb[w] & exact_slots[w]) != 0;
+            if (!any) continue;
+            pr.only = exact_slots;
+          }
           pr.b = b;
           pr.number = kStencil
                           ? word_rank + static_cast<std::size_t>(std::popcount(
@@ -80,7 +101,7 @@ void process_point(const Context<Model>& ctx, std::size_t i, SymmetricKernelThre
           pr.pq[1] = pa[2] * pb[0] - pa[0] * pb[2];
           pr.pq[2] = pa[0] * pb[1] - pa[1] * pb[0];
           if constexpr (Model::kTriangles) {
-            if (ctx.pairs) {
+            if (ctx.pairs && pr.only == nullptr) {
               if constexpr (kConservative) {
                 triangle_term_conservative<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
               } else {

@@ -138,6 +138,7 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop(const Context<Model>& 
     } else {
       cand = ra[wc] & rb[wc];
     }
+    if (pr.only != nullptr) cand &= pr.only[wc];
     if (!cand) continue;
     // 1 / V of triple c, whose bit is in word wc (stencil path only).
     auto inv_volume = [&](std::size_t c) {
