@@ -62,7 +62,11 @@ MeshWall::MeshWall(std::vector<Vec3> vertex, std::vector<std::array<std::uint32_
     face_normal_[t] = n.normalized();
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t a = tri[k], b = tri[(k + 1) % 3], c = tri[(k + 2) % 3];
-      edge_sum[{std::min(a, b), std::max(a, b)}] += face_normal_[t];
+      // try_emplace with an explicit zero: map's operator[] default-constructs the Vec3, which
+      // Eigen leaves uninitialised (valgrind found the sum starting from garbage: edge normals,
+      // and so the wall's contact forces, that varied from run to run).
+      edge_sum.try_emplace({std::min(a, b), std::max(a, b)}, Vec3::Zero()).first->second +=
+          face_normal_[t];
       const Vec3 u = (vertex_[b] - vertex_[a]).normalized(),
                  w = (vertex_[c] - vertex_[a]).normalized();
       vertex_normal_[a] += std::acos(std::clamp(u.dot(w), -1.0, 1.0)) * face_normal_[t];
@@ -73,7 +77,7 @@ MeshWall::MeshWall(std::vector<Vec3> vertex, std::vector<std::array<std::uint32_
   for (std::size_t t = 0; t < nt; ++t)
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t a = triangle_[t][k], b = triangle_[t][(k + 1) % 3];
-      edge_normal_[t][k] = edge_sum[{std::min(a, b), std::max(a, b)}].normalized();
+      edge_normal_[t][k] = edge_sum.at({std::min(a, b), std::max(a, b)}).normalized();
     }
   for (Vec3& n : vertex_normal_) n.normalize();
   ring_offset_ = count;
