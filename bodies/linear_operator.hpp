@@ -78,30 +78,9 @@ inline void column_table(const Body& body, std::uint32_t centre, const FamilyScr
   }
 }
 
-// Adds scale * lin.block(v, w) for every vertex pair of one set to the rows `rows` lists
-// (vertex v is point vertex[v], at slot slot[v] of the centre's column table); with
-// `only_centre`, to vertex 0's row alone. The serial assembly's way (reference/ keeps it for
-// the tests): straight into the global rows, set by set.
-template <int kVertices>
-inline void add_set(LinearOperator& op, const SetLinearisation<kVertices>& lin,
-                    const std::uint32_t (&vertex)[kVertices], const std::size_t (&slot)[kVertices],
-                    const std::vector<std::size_t>& table, std::size_t m,
-                    const double (&scale)[kVertices], bool only_centre) {
-  for (int v = 0; v < (only_centre ? 1 : kVertices); ++v) {
-    const std::size_t row = vertex[v];
-    Eigen::Matrix3d* blocks = &op.block[op.offset[row]];
-    for (int w = 0; w < kVertices; ++w) {
-      const std::size_t column = table[slot[v] * m + slot[w]];
-      if (column == kNoColumn)
-        throw std::logic_error(
-            "linear operator: a set's vertices are not in each other's families");
-      blocks[column] += scale[v] * lin.block(v, w);
-    }
-  }
-}
-
-// The same into one centre's local blocks (slot-indexed, local[a * m + b]: row slot a, column
-// slot b), as a rank-one update per row: (-C/R scale_v g_v) g_w^T.
+// One set's blocks scale[v] lin.block(v, w) for every vertex pair into one centre's local
+// blocks (slot-indexed, local[a * m + b]: row slot a, column slot b), as a rank-one update per row:
+// (-C/R scale_v g_v) g_w^T.
 template <int kVertices>
 inline void add_set_local(Eigen::Matrix3d* local, const SetLinearisation<kVertices>& lin,
                           const std::size_t (&slot)[kVertices],

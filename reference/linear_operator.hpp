@@ -8,6 +8,29 @@
 
 namespace ckpd {
 
+namespace linear_operator_detail {
+// Adds scale * lin.block(v, w) for every vertex pair of one set to the rows `rows` lists
+// (vertex v is point vertex[v], at slot slot[v] of the centre's column table); with
+// `only_centre`, to vertex 0's row alone.
+template <int kVertices>
+inline void add_set(LinearOperator& op, const SetLinearisation<kVertices>& lin,
+                    const std::uint32_t (&vertex)[kVertices], const std::size_t (&slot)[kVertices],
+                    const std::vector<std::size_t>& table, std::size_t m,
+                    const double (&scale)[kVertices], bool only_centre) {
+  for (int v = 0; v < (only_centre ? 1 : kVertices); ++v) {
+    const std::size_t row = vertex[v];
+    Eigen::Matrix3d* blocks = &op.block[op.offset[row]];
+    for (int w = 0; w < kVertices; ++w) {
+      const std::size_t column = table[slot[v] * m + slot[w]];
+      if (column == kNoColumn)
+        throw std::logic_error(
+            "linear operator: a set's vertices are not in each other's families");
+      blocks[column] += scale[v] * lin.block(v, w);
+    }
+  }
+}
+}  // namespace linear_operator_detail
+
 // op: the rows' zeroed blocks, as reference_linear_operator allocates them.
 template <class Model>
 void assemble_linear_operator_serial_of(const Model& model, const Body& body, LinearOperator& op) {

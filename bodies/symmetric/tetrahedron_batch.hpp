@@ -202,9 +202,9 @@ struct Geometry {
 
 // The Seth-Hill slope factor e_m(r) r^(2m - 1) and, with kStrain, e_m(r) per lane, from
 // d = r - 1, operation for operation as SethHillStrain::factor and ::strain compute them: m = -1/2
-// in vector arithmetic (one division), m = 0 and any other m lane by lane (log1p, expm1: no
-// vector forms in the C library without -ffast-math), only in the lanes of `use` (the others,
-// whatever d they hold, get 0: the caller masks them).
+// in vector arithmetic (one division), any other m lane by lane with SethHillStrain's own
+// functions (log1p, expm1: no vector forms in the C library without -ffast-math), only in the
+// lanes of `use` (the others, whatever d they hold, get 0: the caller masks them).
 template <bool kStrain, class Strain>
 inline void seth_hill_lanes(const Strain& law, d4 d, unsigned use, d4& factor, d4& strain) {
   if (law.m == -0.5) {
@@ -214,20 +214,13 @@ inline void seth_hill_lanes(const Strain& law, d4 d, unsigned use, d4& factor, d
     if constexpr (kStrain) strain = d / r;
     return;
   }
-  // Through plain arrays: element writes into a vector variable keep it in memory for the whole
-  // block, which cost more than the batch saved (measured on the stencil path).
+  // Lane by lane through plain arrays (element writes would keep the vectors in memory).
   alignas(8 * kW) double dl[kW], fl[kW] = {}, sl[kW] = {};
   store(dl, d);
   for (; use; use &= use - 1) {
     const int l = std::countr_zero(use);
-    if (law.m == 0) {
-      const double lr = std::log1p(dl[l]);
-      fl[l] = lr / (1 + dl[l]);
-      sl[l] = lr;
-    } else {
-      fl[l] = law.factor(dl[l]);
-      if constexpr (kStrain) sl[l] = law.strain(dl[l]);
-    }
+    fl[l] = law.factor(dl[l]);
+    if constexpr (kStrain) sl[l] = law.strain(dl[l]);
   }
   factor = load(fl);
   if constexpr (kStrain) strain = load(sl);
