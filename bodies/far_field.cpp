@@ -7,7 +7,7 @@ namespace ckpd {
 FarField make_far_field(const Body& body, double tolerance) {
   FarField ff;
   ff.tolerance = tolerance;
-  ff.op = reference_linear_operator(body);
+  ff.op = linear_operator_by_class(body);
   const std::size_t n = body.size();
   ff.exact.assign(n, 0);
   ff.row_failed.assign(n, 0);

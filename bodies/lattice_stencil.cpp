@@ -78,17 +78,18 @@ std::size_t LatticeStencil::bytes() const {
          inv_volume.size() * sizeof(double);
 }
 
-StencilBuild build_lattice_stencil(const Body& body) {
-  StencilBuild out;
-  auto fail = [&](const std::string& why) {
-    out.reason = why;
-    return out;
-  };
+LatticeCoordinates lattice_coordinates(const Body& body) {
+  LatticeCoordinates out;
   const std::size_t n = body.size();
   const BondFamily& family = body.family;
-  if (n < 2 || family.bond_entries() == 0) return fail("no bonds");
-  if (n >= (std::size_t{1} << 31)) return fail("too many points");
-
+  if (n < 2 || family.bond_entries() == 0) {
+    out.reason = "no bonds";
+    return out;
+  }
+  if (n >= (std::size_t{1} << 31)) {
+    out.reason = "too many points";
+    return out;
+  }
   // The spacing is the shortest bond: on a lattice, the nearest neighbour distance.
   double h2 = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < n; ++i)
@@ -96,10 +97,7 @@ StencilBuild build_lattice_stencil(const Body& body) {
       h2 = std::min(h2, (body.reference_position[family.neighbour[k]] - body.reference_position[i])
                             .squaredNorm());
   const double h = std::sqrt(h2);
-
-  auto stencil = std::make_shared<LatticeStencil>();
-  LatticeStencil& st = *stencil;
-  st.coord.resize(3 * n);
+  std::vector<std::int32_t> coord(3 * n);
   const Vec3 origin = body.reference_position[0];
   // Lattice coordinates for spacing h; false (with the reason set) if a point is off the lattice.
   auto assign_coordinates = [&](double spacing) {
@@ -117,9 +115,9 @@ StencilBuild build_lattice_stencil(const Body& body) {
           out.reason = msg.str();
           return false;
         }
-        st.coord[3 * i + d] = static_cast<std::int32_t>(r);
+        coord[3 * i + d] = static_cast<std::int32_t>(r);
       }
-      if (body.dimension == 2 && st.coord[3 * i + 2] != 0) {
+      if (body.dimension == 2 && coord[3 * i + 2] != 0) {
         out.reason = "2D points off one plane";
         return false;
       }
@@ -134,18 +132,40 @@ StencilBuild build_lattice_stencil(const Body& body) {
   std::size_t far = 0;
   double far_steps2 = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const double s2 = double(st.coord[3 * i]) * st.coord[3 * i] +
-                      double(st.coord[3 * i + 1]) * st.coord[3 * i + 1] +
-                      double(st.coord[3 * i + 2]) * st.coord[3 * i + 2];
+    const double s2 = double(coord[3 * i]) * coord[3 * i] +
+                      double(coord[3 * i + 1]) * coord[3 * i + 1] +
+                      double(coord[3 * i + 2]) * coord[3 * i + 2];
     if (s2 > far_steps2) {
       far_steps2 = s2;
       far = i;
     }
   }
-  const Vec3 steps(st.coord[3 * far], st.coord[3 * far + 1], st.coord[3 * far + 2]);
+  const Vec3 steps(coord[3 * far], coord[3 * far + 1], coord[3 * far + 2]);
   const double spacing = (body.reference_position[far] - origin).dot(steps) / far_steps2;
   if (!assign_coordinates(spacing)) return out;
-  st.spacing = spacing;
+  out.spacing = spacing;
+  out.coord = std::move(coord);
+  return out;
+}
+
+StencilBuild build_lattice_stencil(const Body& body) {
+  StencilBuild out;
+  auto fail = [&](const std::string& why) {
+    out.reason = why;
+    return out;
+  };
+  const std::size_t n = body.size();
+  const BondFamily& family = body.family;
+  if (n < 2 || family.bond_entries() == 0) return fail("no bonds");
+  if (n >= (std::size_t{1} << 31)) return fail("too many points");
+
+  LatticeCoordinates lattice = lattice_coordinates(body);
+  if (lattice.coord.empty()) return fail(lattice.reason);
+  auto stencil = std::make_shared<LatticeStencil>();
+  LatticeStencil& st = *stencil;
+  st.coord = std::move(lattice.coord);
+  st.spacing = lattice.spacing;
+  const double spacing = lattice.spacing;
   auto coord_of = [&](std::size_t i) {
     return Offset{st.coord[3 * i], st.coord[3 * i + 1], st.coord[3 * i + 2]};
   };

@@ -68,6 +68,16 @@ struct LatticeStencil {
   std::size_t bytes() const;
 };
 
+// Integer lattice coordinates of a body's points (x, y, z per point, z = 0 in 2D) on the lattice
+// through point 0 whose spacing is the shortest bond (refined over the body's extent), or an
+// empty `coord` and the reason when some point is off that lattice (a point cloud).
+struct LatticeCoordinates {
+  double spacing = 0;
+  std::vector<std::int32_t> coord;
+  std::string reason;
+};
+LatticeCoordinates lattice_coordinates(const Body& body);
+
 // The stencil of a body, or why it has none (then `stencil` is null): the points are not on one
 // lattice, not numbered in (z, y, x) order, a family differs from the stencil's offsets, a set's
 // degeneracy would depend on the vertex it is seen from, or the tables would exceed

@@ -26,17 +26,26 @@
 namespace ckpd {
 
 struct LinearOperator {
-  // Row i's blocks are block[offset[i] .. offset[i + 1]): first d b^i / d u^i, then
-  // d b^i / d u^j for the members j of i's family in the order of body.family's row.
-  std::vector<std::size_t> offset;
+  static constexpr std::size_t kNoRow = ~std::size_t{0};
+  // Row i's blocks are block[row[i] .. row[i] + 1 + family size of i): first d b^i / d u^i, then
+  // d b^i / d u^j for the members j of i's family in the order of body.family's row. Points of
+  // one row class (operator_classes.hpp) share one row. kNoRow: a row the assembly skips.
+  std::vector<std::size_t> row;
   std::vector<Eigen::Matrix3d> block;
+  std::size_t classes = 0;  // rows stored
   std::size_t bytes() const {
-    return block.size() * sizeof(Eigen::Matrix3d) + offset.size() * sizeof(std::size_t);
+    return block.size() * sizeof(Eigen::Matrix3d) + row.size() * sizeof(std::size_t);
   }
 };
 
-// Throws std::invalid_argument for a model without set linearisations (the state-based solid).
+// Every point's own row, assembled. Throws std::invalid_argument for a model without set
+// linearisations (the state-based solid).
 LinearOperator reference_linear_operator(const Body& body);
+// The same operator with one row per row class (operator_classes.hpp): on a lattice body the
+// points whose rows are the same up to the rounding of their positions share the row of the
+// class's first point, assembled only there; on a point cloud every point is its own class and
+// the result is reference_linear_operator's bit for bit.
+LinearOperator linear_operator_by_class(const Body& body);
 
 // b^i = sum_c K^ic u^c with the body's displacements, for every point.
 void apply_linear_operator(const LinearOperator& op, const Body& body, std::vector<Vec3>& b);
@@ -78,6 +87,16 @@ inline void column_table(const Body& body, std::uint32_t centre, const FamilyScr
   }
 }
 
+// Whether centre c's sets reach a row the assembly writes: c's own, or (all_rows) a member's.
+inline bool writes_assembled_row(const LinearOperator& op, const Body& body, std::size_t c,
+                                 bool only_centre) {
+  if (op.row[c] != LinearOperator::kNoRow) return true;
+  if (only_centre) return false;
+  for (std::size_t k = body.family.offset[c]; k < body.family.offset[c + 1]; ++k)
+    if (op.row[body.family.neighbour[k]] != LinearOperator::kNoRow) return true;
+  return false;
+}
+
 // One set's blocks scale[v] lin.block(v, w) for every vertex pair into one centre's local
 // blocks (slot-indexed, local[a * m + b]: row slot a, column slot b), as a rank-one update per row:
 // (-C/R scale_v g_v) g_w^T.
@@ -99,20 +118,20 @@ inline void add_set_local(Eigen::Matrix3d* local, const SetLinearisation<kVertic
   }
 }
 
-// Adds one centre's local blocks to the global rows of its points (only the centre's row with
-// `only_centre`) and zeroes them again (every block a set wrote has a column: add_set_local
-// checked it).
+// Adds one centre's local blocks to the global rows of its points that are assembled (only the
+// centre's row with `only_centre`) and zeroes them again (every block a set wrote has a column:
+// add_set_local checked it).
 inline void apply_local(LinearOperator& op, std::uint32_t centre, const FamilyScratch& s,
                         const std::vector<std::size_t>& table, Eigen::Matrix3d* local,
                         bool only_centre) {
   const std::size_t m = s.size() + 1;
   for (std::size_t a = 0; a < (only_centre ? 1 : m); ++a) {
-    Eigen::Matrix3d* blocks = &op.block[op.offset[a == 0 ? centre : s.index[a - 1]]];
+    const std::size_t start = op.row[a == 0 ? centre : s.index[a - 1]];
     Eigen::Matrix3d* row = local + a * m;
     const std::size_t* columns = &table[a * m];
     for (std::size_t b = 0; b < m; ++b) {
       if (columns[b] == kNoColumn) continue;
-      blocks[columns[b]] += row[b];
+      if (start != LinearOperator::kNoRow) op.block[start + columns[b]] += row[b];
       row[b].setZero();
     }
   }
@@ -178,7 +197,8 @@ inline void for_each_set(const Model& model, const Body& body, std::size_t c,
 }  // namespace linear_operator_detail
 
 // Row i's blocks for a given model (its table's `linearise` entry, force_model_kernels.hpp); op
-// must hold the rows' zeroed blocks (reference_linear_operator allocates them).
+// must hold the rows' zeroed blocks (reference_linear_operator allocates them). Rows marked
+// kNoRow are not written, and centres that reach none of the other rows are not visited.
 // Parallel over centres and the same bit for bit at every thread count: each centre's sets are
 // summed, in the serial order, into the thread's local blocks (one per pair of the centre's
 // points, column_table), which are then added to the global rows in centre order (an ordered
@@ -203,6 +223,9 @@ void assemble_linear_operator_of(const Model& model, const Body& body, LinearOpe
     // Centre c's sets into `local`; false once some centre has thrown (the error is kept).
     auto accumulate = [&](std::ptrdiff_t c) {
       if (failed.load(std::memory_order_relaxed)) return false;
+      if (!linear_operator_detail::writes_assembled_row(op, body, static_cast<std::size_t>(c),
+                                                        only_centre))
+        return false;
       try {
         s.load(body, static_cast<std::size_t>(c), body.damage_enabled, sets);
         const std::uint32_t centre = static_cast<std::uint32_t>(c);

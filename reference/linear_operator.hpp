@@ -19,7 +19,7 @@ inline void add_set(LinearOperator& op, const SetLinearisation<kVertices>& lin,
                     const double (&scale)[kVertices], bool only_centre) {
   for (int v = 0; v < (only_centre ? 1 : kVertices); ++v) {
     const std::size_t row = vertex[v];
-    Eigen::Matrix3d* blocks = &op.block[op.offset[row]];
+    Eigen::Matrix3d* blocks = &op.block[op.row[row]];
     for (int w = 0; w < kVertices; ++w) {
       const std::size_t column = table[slot[v] * m + slot[w]];
       if (column == kNoColumn)

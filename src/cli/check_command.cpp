@@ -139,8 +139,9 @@ int check(const CheckOptions& opt) {
     if (sb.far_field) {
       megabytes += static_cast<double>(sb.far_field->op.bytes()) / 1e6;
       std::cout << "    far field: tolerance " << sb.far_field->tolerance << ", linear operator "
-                << megabytes_text(static_cast<double>(sb.far_field->op.bytes()) / 1e6)
-                << " (one 3 x 3 block per family member and point; lattice classes not yet), "
+                << megabytes_text(static_cast<double>(sb.far_field->op.bytes()) / 1e6) << " ("
+                << sb.far_field->op.classes << " row classes for " << b.size()
+                << " points, one 3 x 3 block per family member and class), "
                 << "exact at set-up: " << sb.far_field->exact_count << " of " << b.size()
                 << " points\n";
     }

@@ -152,7 +152,8 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
     if (sb.far_field)
       bodies.back()["far_field"] = {{"tolerance", sb.far_field->tolerance},
                                     {"exact_fraction", sb.far_field->exact_fraction()},
-                                    {"operator_bytes", sb.far_field->op.bytes()}};
+                                    {"operator_bytes", sb.far_field->op.bytes()},
+                                    {"operator_row_classes", sb.far_field->op.classes}};
   }
   j["points"] = points;
   j["bonds"] = bonds;
