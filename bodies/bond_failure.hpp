@@ -74,7 +74,7 @@ struct FailureWorkspace {
   // One family scratch per worker, by omp_get_thread_num(). Not thread_local in the workers:
   // libgomp ends pooled threads when a region runs with fewer (an if clause elsewhere), and
   // the new threads would start with empty scratch.
-  std::vector<FamilyScratch> scratch;
+  std::vector<SwitchingFamily> scratch;
 };
 inline FailureWorkspace& failure_workspace() {
   thread_local FailureWorkspace w;
@@ -114,38 +114,51 @@ FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double
   bond_failure_detail::FailureWorkspace& w = bond_failure_detail::failure_workspace();
   std::vector<std::uint8_t>& failing = w.failing;
   std::vector<std::uint8_t>& touched = w.touched;
+  std::vector<std::uint8_t>& ends = w.ends;
   // All zero between calls (the flags set below are cleared where they are applied), so a step
   // clears nothing unless the body's bond count differs from the last body's.
   if (failing.size() != body.family.neighbour.size())
     failing.assign(body.family.neighbour.size(), 0);
-  touched.assign(n, 0);
   std::size_t failed = 0;
+  // Each bond is tested once, from its lower end, and both stored directions are flagged: they
+  // compute the same stretch bit for bit (the offsets are negated exactly), so this fails the
+  // bonds update_bond_failure fails. The other direction's position is looked up only for the
+  // bonds that fail; each flag is written by one iteration alone.
 #pragma omp parallel for schedule(static) reduction(+ : failed)
   for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
-      if (bond_failure_detail::breaks_now(model, body, protect, i, k)) {
-        failing[k] = 1;
-        touched[i] = 1;
-        if (i < body.family.neighbour[k]) ++failed;
-      }
+    const auto row = body.family.neighbour.begin();
+    const std::size_t end = body.family.offset[i + 1];
+    const std::size_t upper = static_cast<std::size_t>(
+        std::upper_bound(row + static_cast<std::ptrdiff_t>(body.family.offset[i]),
+                         row + static_cast<std::ptrdiff_t>(end), static_cast<std::uint32_t>(i)) -
+        row);
+    for (std::size_t k = upper; k < end; ++k) {
+      if (!bond_failure_detail::breaks_now(model, body, protect, i, k)) continue;
+      failing[k] = 1;
+      failing[FamilyScratch::bond_position(body, body.family.neighbour[k],
+                                           static_cast<std::uint32_t>(i))] = 1;
+      ++failed;
     }
   }
   if (failed == 0) return result;
+  ends.assign(n, 0);
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k)
+      if (failing[k]) {
+        ends[i] = 1;
+        break;
+      }
+  touched = ends;
   if (body.damage_rule == DamageRule::all_edges) {
     // A failing bond j-k also switches off, for every common neighbour i, the sets of i's own
     // family that hold the edge j-k: their energy leaves i's sum too. Every such i is bonded to
-    // j (the set's edges are bonds), so the ends' neighbours are all the points that change.
-    std::vector<std::uint8_t>& ends = w.ends;
-    ends = touched;
-#pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
-      if (ends[i]) continue;
-      for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
-        if (ends[body.family.neighbour[k]]) {
-          touched[i] = 1;
-          break;
-        }
-      }
+    // j (the set's edges are bonds), so the ends' neighbours are all the points that change:
+    // marked from the ends' rows (few), not by a pass over every row.
+    for (std::size_t j = 0; j < n; ++j) {
+      if (!ends[j]) continue;
+      for (std::size_t k = body.family.offset[j]; k < body.family.offset[j + 1]; ++k)
+        touched[body.family.neighbour[k]] = 1;
     }
   }
   std::vector<std::uint32_t>& points = w.points;
@@ -173,14 +186,14 @@ FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double
   // energy is what each point's sum loses.
   const std::size_t workers = static_cast<std::size_t>(omp_get_max_threads());
   if (w.scratch.size() < workers) w.scratch.resize(workers);
-  std::vector<FamilyScratch>& scratches = w.scratch;
+  std::vector<SwitchingFamily>& scratches = w.scratch;
 #pragma omp parallel
   {
-    FamilyScratch& scratch = scratches[static_cast<std::size_t>(omp_get_thread_num())];
+    SwitchingFamily& scratch = scratches[static_cast<std::size_t>(omp_get_thread_num())];
     scratch.reserve(largest_family);
 #pragma omp for schedule(dynamic, 4)
     for (std::size_t p = 0; p < points.size(); ++p)
-      lost[p] = switched_off_energy_density_of(model, body, points[p], scratch, failing);
+      lost[p] = switched_off_energy_density_of(model, body, points[p], scratch, failing, ends);
   }
   // Copied back, not moved: the displacement keeps its buffer (the Python module's numpy views
   // of it must stay valid across steps).

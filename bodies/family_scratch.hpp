@@ -54,70 +54,6 @@ class FamilyScratch {
     }
   }
 
-  // After load(): marks the slots whose bond is flagged in `failing` (one flag per stored bond,
-  // the bonds about to fail) and, with `edges`, the adjacent slot pairs whose own bond is flagged.
-  // The switching enumerations below then visit exactly the sets that the failures switch off:
-  // those holding a failing bond of the centre (either damage rule) or, with `edges`
-  // (DamageRule::all_edges), a failing edge between two members.
-  void mark_failing(const Body& body, const std::vector<std::uint8_t>& failing, bool edges) {
-    std::fill(failing_slot_.begin(), failing_slot_.begin() + static_cast<std::ptrdiff_t>(words_),
-              0);
-    for (std::size_t a = 0; a < size_; ++a)
-      if (failing[bond[a]]) failing_slot_[a / 64] |= std::uint64_t{1} << (a % 64);
-    failing_edges_ = edges;
-    if (!edges) return;
-    std::fill(failing_edge_.begin(),
-              failing_edge_.begin() + static_cast<std::ptrdiff_t>(size_ * words_), 0);
-    for_each_pair([&](std::size_t a, std::size_t b) {
-      const std::size_t k = bond_position(body, index[a], index[b]);
-      if (k == kNoBond || !failing[k]) return;
-      failing_edge_[a * words_ + b / 64] |= std::uint64_t{1} << (b % 64);
-      failing_edge_[b * words_ + a / 64] |= std::uint64_t{1} << (a % 64);
-    });
-  }
-  bool slot_failing(std::size_t a) const { return (failing_slot_[a / 64] >> (a % 64)) & 1; }
-
-  // f(a, b) for every adjacent pair a < b that the marked failures switch off.
-  template <class PairFn>
-  void for_each_switching_pair(PairFn&& f) const {
-    for (std::size_t a = 0; a < size_; ++a) {
-      const std::uint64_t* row = &adjacency[a * words_];
-      const std::uint64_t* edge = &failing_edge_[a * words_];
-      const bool all = slot_failing(a);
-      for (std::size_t w = (a + 1) / 64; w < words_; ++w) {
-        std::uint64_t bits = row[w] & above(a, w);
-        if (!all) bits &= failing_slot_[w] | (failing_edges_ ? edge[w] : 0);
-        while (bits) {
-          const std::size_t b = w * 64 + static_cast<std::size_t>(std::countr_zero(bits));
-          bits &= bits - 1;
-          f(a, b);
-        }
-      }
-    }
-  }
-
-  // f(a, b, c) for every pairwise-adjacent triple a < b < c that the marked failures switch off.
-  template <class TripleFn>
-  void for_each_switching_triple(TripleFn&& f) const {
-    for_each_pair([&](std::size_t a, std::size_t b) {
-      const std::uint64_t* ra = &adjacency[a * words_];
-      const std::uint64_t* rb = &adjacency[b * words_];
-      const std::uint64_t* ea = &failing_edge_[a * words_];
-      const std::uint64_t* eb = &failing_edge_[b * words_];
-      const bool all =
-          slot_failing(a) || slot_failing(b) || (failing_edges_ && ((ea[b / 64] >> (b % 64)) & 1));
-      for (std::size_t w = (b + 1) / 64; w < words_; ++w) {
-        std::uint64_t bits = ra[w] & rb[w] & above(b, w);
-        if (!all) bits &= failing_slot_[w] | (failing_edges_ ? (ea[w] | eb[w]) : 0);
-        while (bits) {
-          const std::size_t c = w * 64 + static_cast<std::size_t>(std::countr_zero(bits));
-          bits &= bits - 1;
-          f(a, b, c);
-        }
-      }
-    });
-  }
-
   std::size_t size() const { return size_; }
   // Makes room for families of up to n members now, so that later loads allocate nothing.
   void reserve(std::size_t n) { grow(n); }
@@ -160,7 +96,6 @@ class FamilyScratch {
   std::vector<std::uint32_t> index;  // each slot's point
   std::vector<std::size_t> bond;     // each slot's bond: its position in the body's CSR rows
 
- private:
   static constexpr std::size_t kNoBond = ~std::size_t{0};
   // The position of bond j-k in j's sorted CSR row, kNoBond where j and k are not bonded.
   static std::size_t bond_position(const Body& body, std::uint32_t j, std::uint32_t k) {
@@ -172,6 +107,8 @@ class FamilyScratch {
     return it != end && *it == k ? static_cast<std::size_t>(it - body.family.neighbour.begin())
                                  : kNoBond;
   }
+
+ private:
   // Whether j and k are bonded and that bond has failed.
   static bool bond_failed(const Body& body, std::uint32_t j, std::uint32_t k) {
     const std::size_t p = bond_position(body, j, k);
@@ -192,17 +129,11 @@ class FamilyScratch {
       length.resize(n);
     }
     const std::size_t w = (n + 63) / 64;
-    if (adjacency.size() < n * w) {
-      adjacency.resize(n * w);
-      failing_edge_.resize(n * w);
-    }
-    if (failing_slot_.size() < w) failing_slot_.resize(w);
+    if (adjacency.size() < n * w) adjacency.resize(n * w);
   }
 
   std::size_t size_ = 0, words_ = 0;
   std::vector<std::uint64_t> adjacency;
-  std::vector<std::uint64_t> failing_slot_, failing_edge_;  // mark_failing's bit rows
-  bool failing_edges_ = false;
 };
 
 }  // namespace ckpd

@@ -12,6 +12,7 @@
 #include "bodies/body.hpp"
 #include "bodies/family_scratch.hpp"
 #include "bodies/set_law.hpp"
+#include "bodies/switching_family.hpp"
 
 namespace ckpd {
 
@@ -80,22 +81,23 @@ PointResult evaluate_point_of(const Model& model, const Body& body, std::size_t 
 }
 
 // The part of point i's own-family energy density W1/2 + W2/3 + W3/4 that the failures flagged
-// in `failing` (one flag per stored bond, the intact bonds about to fail) take away: the energy of
-// its failing bonds and of the sets they switch off (its own failing bonds' sets under either
-// rule, and under DamageRule::all_edges also the sets with a failing edge between two members).
-// The terms are evaluate_point_of's, so this equals the drop of its strain_energy_density across
-// the failures, without evaluating the sets that stay on (tests/test_failure_booking.cpp).
+// in `failing` (one flag per stored bond, the intact bonds about to fail; `ends` flags the points
+// that hold one) take away: the energy of its failing bonds and of the sets they switch off (its
+// own failing bonds' sets under either rule, and under DamageRule::all_edges also the sets with
+// a failing edge between two members). The terms are evaluate_point_of's, called with the same
+// slots in the same order, so this equals the drop of its strain_energy_density across the
+// failures, without visiting the sets that stay on (switching_family.hpp;
+// tests/test_failure_booking.cpp).
 template <class Model>
 double switched_off_energy_density_of(const Model& model, const Body& body, std::size_t i,
-                                      FamilyScratch& s, const std::vector<std::uint8_t>& failing) {
+                                      SwitchingFamily& s, const std::vector<std::uint8_t>& failing,
+                                      const std::vector<std::uint8_t>& ends) {
   const bool pairs = Model::kTriangles && model.has_triangles();
   const bool triples = Model::kTetrahedra && model.has_tetrahedra();
-  s.load(body, i, true, pairs || triples);
-  s.mark_failing(body, failing, (pairs || triples) && body.damage_rule == DamageRule::all_edges);
+  s.load(body, i, failing, ends, (pairs || triples) && body.damage_rule == DamageRule::all_edges);
   const double degenerate = body.degenerate_fraction;
   double w1 = 0, w2 = 0, w3 = 0;
-  for (std::size_t a = 0; a < s.size(); ++a)
-    if (s.slot_failing(a)) w1 += model.bond_term(s.ref[a], s.cur[a]).energy;
+  s.for_each_failing_slot([&](std::size_t a) { w1 += model.bond_term(s.ref[a], s.cur[a]).energy; });
   w1 *= body.dv1[i];
   if constexpr (Model::kTriangles) {
     if (pairs) {
