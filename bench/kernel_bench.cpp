@@ -5,10 +5,13 @@
 //
 //   kernel_bench [--dim 3] [--n 24] [--m 3.015] [--nu 0.3] [--reps 7] [--ref-reps 3]
 //                [--threads 1,2] [--energy] [--jitter 0] [--order lex|morton] [--strain-measure
-//                0.5]
+//                0.5] [--bonds-only]
 // --jitter j moves every point by up to +-j dx per component: an irregular cloud, whose slivers
 // (nearly flat tetrahedra) the fast kernel evaluates vertex by vertex. --order morton numbers
 // the points along a Morton curve (a space-filling-curve ordering; no lattice stencil then).
+// --bonds-only sets C2 = C3 = 0 (a bond-only body: the bond-only kernel, bodies/symmetric/
+// bond_only.hpp) and times it against the general path of the same kernel (the body without its
+// bond table), alternately, in bonds per second.
 //
 // Prints the setup, the median (and min/max) milliseconds per evaluation, interactions per
 // second, the speed-up of the fast kernel and its thread scaling, and the largest difference
@@ -51,6 +54,7 @@ struct Options {
   double jitter = 0;
   bool morton = false;  // number the points along a Morton (Z-order) curve instead of (z, y, x)
   double strain_measure = 0.5;  // Seth-Hill m (1/2: the default linear law)
+  bool bonds_only = false;      // C2 = C3 = 0
 };
 
 Options parse(int argc, char** argv) {
@@ -82,6 +86,8 @@ Options parse(int argc, char** argv) {
       o.jitter = std::stod(value());
     } else if (key == "--energy") {
       o.energy = true;
+    } else if (key == "--bonds-only") {
+      o.bonds_only = true;
     } else if (key == "--strain-measure") {
       o.strain_measure = std::stod(value());
     } else if (key == "--order") {
@@ -104,6 +110,7 @@ ckpd::Body lattice_body(const Options& o) {
   d.horizon = o.m * dx;
   d.constants = ckpd::interaction_constants(
       o.dim, E, o.nu, o.dim == 3 ? ckpd::PlaneMode::none : ckpd::PlaneMode::stress, d.horizon);
+  if (o.bonds_only) d.constants.c2 = d.constants.c3 = 0;
   d.critical_stretch = 1.0;  // damage bookkeeping on, as in a fracture run; nothing fails
   const int layers = o.dim == 3 ? o.n : 1;
   for (int z = 0; z < layers; ++z)
@@ -205,6 +212,36 @@ std::pair<Timing, Timing> time_alternately(int reps, FnA&& a, FnB&& b) {
   return {sa.summary(), sb.summary()};
 }
 
+// --bonds-only: the bond-only kernel against the general path, alternately, per thread count.
+int bonds_only_bench(const Options& o, ckpd::Body& body) {
+  ckpd::Body general = body;
+  general.upper_bonds.reset();
+  ckpd::SymmetricKernelWorkspace workspace, general_workspace;
+  const double bonds =
+      static_cast<double>(ckpd::compute_internal_force_symmetric(body, o.energy, workspace).bonds);
+  std::printf("%dD bond-only %s block %d^%d, m = %.3f (C2 = C3 = 0)%s: %zu points, %.0f bonds\n",
+              o.dim, o.jitter > 0 ? "jittered" : "lattice", o.n, o.dim, o.m,
+              o.energy ? ", with energy" : "", body.size(), bonds);
+  double worst = 0;
+  for (const int threads : o.threads) {
+    omp_set_num_threads(threads);
+    const auto [fast, slow] = time_alternately(
+        o.reps, [&] { ckpd::compute_internal_force_symmetric(body, o.energy, workspace); },
+        [&] { ckpd::compute_internal_force_symmetric(general, o.energy, general_workspace); });
+    std::printf("threads %d\n", threads);
+    std::printf("  bond-only  %8.2f ms/step  %8.2f ms CPU/step  %.3g bonds/s per core of CPU\n",
+                fast.median, fast.cpu, bonds / (fast.cpu * 1e-3));
+    std::printf("  general    %8.2f ms/step  %8.2f ms CPU/step  %.3g bonds/s per core of CPU\n",
+                slow.median, slow.cpu, bonds / (slow.cpu * 1e-3));
+    std::printf("  gain       %8.2fx wall, %.2fx CPU\n", slow.median / fast.median,
+                slow.cpu / fast.cpu);
+    for (std::size_t i = 0; i < body.size(); ++i)
+      worst = std::max(worst, (body.force_density[i] - general.force_density[i]).norm());
+  }
+  std::printf("largest |bond-only - general| force: %.3g (0: the same bits)\n", worst);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -216,6 +253,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   ckpd::Body body = lattice_body(o);
+  if (o.bonds_only) return bonds_only_bench(o, body);
   ckpd::SymmetricKernelWorkspace workspace;
   const ckpd::SymmetricKernelStats stats =
       ckpd::compute_internal_force_symmetric(body, o.energy, workspace);

@@ -329,6 +329,8 @@ Body make_body(BodyDefinition def) {
   } else {
     body.stencil_note = "turned off (lattice_stencil: false)";
   }
+  if (!body.has_pairs() && !body.has_triples())
+    body.upper_bonds = build_upper_bonds(body.reference_position, body.family);
   if (force_model(body).prepare != nullptr) force_model(body).prepare(body);
   return body;
 }

@@ -12,6 +12,7 @@
 #include "bodies/bond_family.hpp"
 #include "bodies/force_model.hpp"
 #include "bodies/material.hpp"
+#include "bodies/upper_bonds.hpp"
 #include "bodies/vec.hpp"
 
 namespace ckpd {
@@ -147,6 +148,9 @@ struct Body {
   // The lattice stencil shared by all points, or null (general path); the note says why not.
   std::shared_ptr<const LatticeStencil> stencil;
   std::string stencil_note;
+  // A body without two- and three-neighbour sets: its bonds' reference lengths, each bond once
+  // (upper_bonds.hpp; the bond-only kernel's table); null for the others.
+  std::shared_ptr<const UpperBonds> upper_bonds;
   // Computed once from the reference configuration (make_body).
   SetScreens screens;
 

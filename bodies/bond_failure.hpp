@@ -27,8 +27,32 @@ bool breaks_now(const Model& model, const Body& body, bool protect, std::size_t 
 
 // Bonds only (no two- or three-neighbour sets): a failing bond {i, j} takes exactly its own
 // energy out of the two ends' sums, V^i dV1^i psi1/2 + V^j dV1^j psi1/2 (half of W1's psi1 per
-// stored direction), psi1 at the booking displacement. One pass over the bonds does the test,
-// the failure and the bookkeeping: no per-point re-evaluation.
+// stored direction), psi1 at the booking displacement u - half_drift v. The half of the bond
+// stored at k in point i's row:
+template <class Model>
+double failing_bond_energy(const Model& model, const Body& body, std::size_t i, std::size_t k,
+                           double half_drift) {
+  const std::uint32_t j = body.family.neighbour[k];
+  const Vec3 dX = body.reference_position[j] - body.reference_position[i];
+  const Vec3 du = (body.displacement[j] - half_drift * body.velocity[j]) -
+                  (body.displacement[i] - half_drift * body.velocity[i]);
+  return 0.5 * model.bond_energy(dX.norm(), bond_stretch(dX, du));
+}
+
+// Point i's share of the energy its failing bonds take: the sum over its row's failing entries
+// in CSR order, times V^i dV1^i. `failing(k)` says whether the entry at k fails now.
+template <class Model, class Failing>
+double failing_row_energy(const Model& model, const Body& body, std::size_t i, double half_drift,
+                          Failing&& failing) {
+  double mine = 0;
+  for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k)
+    if (failing(k)) mine += failing_bond_energy(model, body, i, k, half_drift);
+  return mine * body.dv1[i] * body.volume[i];
+}
+
+// One pass over the bonds does the test, the failure and the bookkeeping: no per-point
+// re-evaluation. (The bond-only kernel, symmetric/bond_only.hpp, does the test and the failure
+// inside its own bond pass and books the same sums in the same order.)
 template <class Model>
 FailureUpdate fail_bonds_only(const Model& model, Body& body, double half_drift) {
   const std::size_t n = body.size();
@@ -41,20 +65,14 @@ FailureUpdate fail_bonds_only(const Model& model, Body& body, double half_drift)
   std::size_t failed = 0;
 #pragma omp parallel for schedule(static) reduction(+ : failed)
   for (std::size_t i = 0; i < n; ++i) {
-    double mine = 0;
-    for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
-      if (!breaks_now(model, body, protect, i, k)) continue;
-      // Each stored direction fails its own flag; the other direction is decided by the same
-      // stretch when its row is visited.
+    // Each stored direction fails its own flag; the other direction is decided by the same
+    // stretch when its row is visited.
+    lost[i] = failing_row_energy(model, body, i, half_drift, [&](std::size_t k) {
+      if (!breaks_now(model, body, protect, i, k)) return false;
       body.bond_intact[k] = 0;
-      const std::uint32_t j = body.family.neighbour[k];
-      if (i < j) ++failed;
-      const Vec3 dX = body.reference_position[j] - body.reference_position[i];
-      const Vec3 du = (body.displacement[j] - half_drift * body.velocity[j]) -
-                      (body.displacement[i] - half_drift * body.velocity[i]);
-      mine += 0.5 * model.bond_energy(dX.norm(), bond_stretch(dX, du));
-    }
-    lost[i] = mine * body.dv1[i] * body.volume[i];
+      if (i < body.family.neighbour[k]) ++failed;
+      return true;
+    });
   }
   FailureUpdate result;
   result.failed = failed;

@@ -39,6 +39,11 @@ struct ForceModelKernels {
   // Null, or the linearisation at the reference state (linear_operator.hpp) into the zeroed
   // rows of op.
   void (*linearise)(const Body& body, LinearOperator& op);
+  // Null, or fail_and_book followed by symmetric (the damage step's result into failure), in
+  // one pass over the bonds where the model's kernel can (bonds only: symmetric/bond_only.hpp).
+  SymmetricKernelStats (*fail_and_symmetric)(Body& body, bool with_energy, double half_drift,
+                                             SymmetricKernelWorkspace& workspace,
+                                             FailureUpdate& failure);
 };
 
 // The CKPD model's table (the default of every body).

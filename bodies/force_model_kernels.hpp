@@ -30,6 +30,10 @@ const ForceModelKernels& kernels_of() {
       nullptr,
       [](const Body& body, LinearOperator& op) {
         assemble_linear_operator_of(Model::of(body), body, op);
+      },
+      [](Body& body, bool with_energy, double half_drift, SymmetricKernelWorkspace& workspace,
+         FailureUpdate& failure) {
+        return symmetric::compute_of<Model>(body, with_energy, workspace, half_drift, &failure);
       }};
   return table;
 }

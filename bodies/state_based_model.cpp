@@ -283,8 +283,8 @@ void prepare(Body& b) {
 
 const ForceModelKernels& state_based_kernels() {
   // No linearisation: the far field needs a model with per-set linearisations.
-  static const ForceModelKernels table{"state_based",  compute,       point,   census,
-                                       update_failure, fail_and_book, prepare, nullptr};
+  static const ForceModelKernels table{"state_based", compute, point,   census, update_failure,
+                                       fail_and_book, prepare, nullptr, nullptr};
   return table;
 }
 

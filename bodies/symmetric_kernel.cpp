@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "bodies/ckpd_model.hpp"
+#include "bodies/damage.hpp"
 #include "bodies/symmetric/load_general.hpp"
 
 namespace ckpd {
@@ -86,10 +87,26 @@ SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_ener
   return force_model(body).symmetric(body, with_energy, workspace);
 }
 
-SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_energy) {
-  // One workspace per calling thread: two host threads may evaluate two bodies at once.
+namespace {
+// One workspace per calling thread: two host threads may evaluate two bodies at once.
+SymmetricKernelWorkspace& host_workspace() {
   thread_local SymmetricKernelWorkspace workspace;
-  return compute_internal_force_symmetric(body, with_energy, workspace);
+  return workspace;
+}
+}  // namespace
+
+SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_energy) {
+  return compute_internal_force_symmetric(body, with_energy, host_workspace());
+}
+
+SymmetricKernelStats fail_bonds_and_compute_internal_force(Body& body, bool with_energy,
+                                                           double half_drift,
+                                                           FailureUpdate& failure) {
+  const ForceModelKernels& model = force_model(body);
+  if (model.fail_and_symmetric != nullptr)
+    return model.fail_and_symmetric(body, with_energy, half_drift, host_workspace(), failure);
+  failure = fail_overstretched_bonds(body, half_drift);
+  return model.symmetric(body, with_energy, host_workspace());
 }
 
 void count_interactions_symmetric(const Body& body, std::vector<std::uint32_t>& n2,

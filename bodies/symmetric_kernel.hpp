@@ -39,6 +39,7 @@ struct SymmetricKernelStats {
   std::uint64_t inverted_tetrahedra = 0;
 };
 
+struct FailureUpdate;          // damage.hpp
 struct SymmetricKernelThread;  // per-thread scratch, defined in symmetric/context.hpp
 
 // Scratch that survives between calls so that steady-state evaluations allocate nothing. It
@@ -62,6 +63,9 @@ class SymmetricKernelWorkspace {
   // is exact is not evaluated (its forces would land on linear points only, whose rows the
   // linear operator overwrites); null: every set of a processed centre.
   const std::uint8_t* exact_point = nullptr;
+  // The fused damage step of bond-only bodies (symmetric/bond_only.hpp): per stored bond and
+  // per point, whether it fails now (all zero between calls).
+  std::vector<std::uint8_t> failing, touched;
 
  private:
   std::vector<std::unique_ptr<SymmetricKernelThread>> threads_;
@@ -72,6 +76,13 @@ class SymmetricKernelWorkspace {
 // This overload keeps its scratch in a workspace private to the calling (host) thread.
 // body.inversion_penalty adds the inversion penalty exactly as compute_internal_force does.
 SymmetricKernelStats compute_internal_force_symmetric(Body& body, bool with_energy);
+// The damage step and the forces after it: `failure` = fail_overstretched_bonds(body,
+// half_drift) (damage.hpp), then compute_internal_force_symmetric(body, with_energy) on the
+// bonds that survive it, with the same results bit for bit. A bond-only body (no two- or
+// three-neighbour sets) does both in one pass over its bonds (symmetric/bond_only.hpp).
+SymmetricKernelStats fail_bonds_and_compute_internal_force(Body& body, bool with_energy,
+                                                           double half_drift,
+                                                           FailureUpdate& failure);
 // Whether a body is evaluated on the stencil path: it has a lattice stencil (body.stencil) with
 // the tables its interaction families need, and it has two- or three-neighbour interactions.
 // Resetting body.stencil selects the general path (benchmarks and tests compare the two).

@@ -50,6 +50,8 @@ struct SymmetricKernelThread {
   std::vector<std::uint64_t> exact_slots;
 
   SymmetricKernelStats stats;
+  // Bonds this thread failed in a fused evaluation (bond_only.hpp).
+  std::size_t failed = 0;
 
   // The per-slot arrays of doubles hold row_words * 64 + 7 entries at least (past the slots:
   // zero or an earlier point's finite values), so that a block of 4 (or 8) slots starting at any

@@ -3,18 +3,44 @@
 // force_model_kernels.hpp).
 #include <omp.h>
 
+#include "bodies/bond_failure.hpp"
+#include "bodies/symmetric/bond_only.hpp"
 #include "bodies/symmetric/process_point.hpp"
 
 namespace ckpd::symmetric {
 
+// With `failure` (not null), the damage step first: *failure = fail_overstretched_bonds_of(
+// model, body, half_drift), then the forces of the bonds that survive it. A bond-only body
+// (bond_only_path) does both in one pass over its bonds; any other body calls the two in turn.
 template <class Model>
-SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWorkspace& workspace) {
+SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWorkspace& workspace,
+                                double half_drift = 0, FailureUpdate* failure = nullptr) {
   const std::size_t n = body.size();
   Context<Model> ctx;
   static_cast<ContextBase&>(ctx) = make_context_base(body);
   ctx.model = Model::of(body);
   ctx.exact = workspace.exact_point;
   workspace.ensure_threads(static_cast<std::size_t>(std::max(1, omp_get_max_threads())));
+  const bool bonds_only = bond_only_path(ctx, workspace);
+  // The fused damage step needs damage on (otherwise nothing fails: the plain kernel).
+  const bool fuse = failure != nullptr && bonds_only && body.damage_enabled;
+  if (failure != nullptr) *failure = {};
+  if (failure != nullptr && !fuse) {
+    *failure = fail_overstretched_bonds_of(ctx.model, body, half_drift);
+    // The flags may have changed.
+    static_cast<ContextBase&>(ctx) = make_context_base(body);
+    ctx.exact = workspace.exact_point;
+  }
+  FusedFailure fused;
+  if (fuse) {
+    fused.protect = !body.no_failure.empty();
+    // All zero between calls: grown (and zeroed) only for a larger body than any before.
+    if (workspace.failing.size() < body.family.neighbour.size())
+      workspace.failing.resize(body.family.neighbour.size(), 0);
+    if (workspace.touched.size() < n) workspace.touched.resize(n, 0);
+    fused.failing = workspace.failing.data();
+    fused.touched = workspace.touched.data();
+  }
   if (uses_lattice_stencil(body)) {
     ctx.stencil = body.stencil.get();
     if (ctx.intact != nullptr) {
@@ -36,6 +62,7 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
     team = omp_get_num_threads();
     SymmetricKernelThread& th = workspace.thread(t);
     th.stats = {};
+    th.failed = 0;
     th.force.assign(n, Vec3::Zero());  // keeps its capacity: no allocation after the first call
     // The energy buffer grows with the force buffer, not at the first evaluation with energy:
     // a host thread may meet a larger body first in a step without energy (small bodies are
@@ -56,7 +83,19 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
     const std::uint8_t* owned = body.owned_centres.empty() ? nullptr : body.owned_centres.data();
     const std::uint8_t* skip = workspace.skip_centre;  // the far field's linear centres
     auto all_points = [&]<bool kEnergy, bool kPenalty>() {
-      if (ctx.stencil != nullptr) {
+      if (bonds_only) {
+        std::size_t failed = 0;
+        if (fuse) {
+#pragma omp for schedule(static, kChunk)
+          for (std::size_t i = 0; i < n; ++i)
+            bond_only_point<Model, kEnergy, true>(ctx, i, th, fused, failed);
+        } else {
+#pragma omp for schedule(static, kChunk)
+          for (std::size_t i = 0; i < n; ++i)
+            bond_only_point<Model, kEnergy, false>(ctx, i, th, fused, failed);
+        }
+        th.failed = failed;
+      } else if (ctx.stencil != nullptr) {
 #pragma omp for schedule(static, kChunk)
         for (std::size_t i = 0; i < n; ++i)
           if ((owned == nullptr || owned[i] != 0) && (skip == nullptr || !skip[i]))
@@ -100,6 +139,12 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
     stats.tetrahedra_per_vertex += x.tetrahedra_per_vertex;
     stats.inverted_triangles += x.inverted_triangles;
     stats.inverted_tetrahedra += x.inverted_tetrahedra;
+  }
+  if (fuse) {
+    for (int s = 0; s < team; ++s)
+      failure->failed += workspace.thread(static_cast<std::size_t>(s)).failed;
+    if (failure->failed > 0)
+      failure->dissipated = book_fused_failures(ctx.model, body, half_drift, fused);
   }
   return stats;
 }

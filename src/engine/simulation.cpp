@@ -274,12 +274,18 @@ void Simulation::evaluate_forces(bool with_energy) {
     }
     // velocity holds the drift velocity of the step (kick-drift-kick): the lost energy is
     // booked at the step's midpoint, where the integrator's force switch effectively happens.
-    dissipated[index] = fail_overstretched_bonds(b, 0.5 * step_size(step_)).dissipated;
     // Each bond, triangle and tetrahedron once (the per-point reference kernel in reference/ is
-    // what it is tested against).
-    const SymmetricKernelStats stats =
-        sb.far_field ? compute_internal_force_far_field(b, *sb.far_field, with_energy)
-                     : compute_internal_force_symmetric(b, with_energy);
+    // what it is tested against); a bond-only body fails its bonds in the same pass.
+    FailureUpdate failure;
+    SymmetricKernelStats stats;
+    if (sb.far_field) {
+      failure = fail_overstretched_bonds(b, 0.5 * step_size(step_));
+      stats = compute_internal_force_far_field(b, *sb.far_field, with_energy);
+    } else {
+      stats =
+          fail_bonds_and_compute_internal_force(b, with_energy, 0.5 * step_size(step_), failure);
+    }
+    dissipated[index] = failure.dissipated;
     if (with_energy) inverted_[index] = stats.inverted_tetrahedra + stats.inverted_triangles;
     // A body whose force work is shared over ranks has this rank's part only: it is completed
     // after the sum over ranks below.

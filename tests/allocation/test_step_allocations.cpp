@@ -122,7 +122,9 @@ namespace {
 // the block and Gc low enough that the contact breaks bonds within the first steps. With
 // `friction`, the sphere is a free deformable one that hits obliquely under linear_dashpot with
 // Coulomb friction (tangential springs, the clusters that take up the couples).
-std::string case_text(bool fracture, bool friction = false) {
+// With `bonds_only`, nu = 1/4: the block has bonds only (the bond-only kernel, which fails its
+// bonds in its own pass: bodies/symmetric/bond_only.hpp).
+std::string case_text(bool fracture, bool friction = false, bool bonds_only = false) {
   const std::string striker = friction ? R"(  - name: striker
     material: steel
     geometry: {type: sphere, center: [0.0035, 0.0035, 0.0094], radius: 0.0025}
@@ -147,8 +149,8 @@ contact:
   radius: 0.00075
 )";
   return std::string(R"(materials:
-  steel: {density: 7850, youngs_modulus: 200e9, poisson_ratio: 0.3)") +
-         (fracture ? ", fracture_energy: 50" : "") + R"(}
+  steel: {density: 7850, youngs_modulus: 200e9, poisson_ratio: )") +
+         (bonds_only ? "0.25" : "0.3") + (fracture ? ", fracture_energy: 50" : "") + R"(}
 bodies:
   - name: block
     material: steel
@@ -174,11 +176,11 @@ struct Count {
 };
 
 // 40 steps to warm up, then 40 counted (every tenth with energy, as a history row's step).
-Count count_allocations(bool fracture, bool friction = false) {
+Count count_allocations(bool fracture, bool friction = false, bool bonds_only = false) {
   using namespace ckpd::testing;
   const auto dir = fresh_dir("step-allocations");
   ckpd::Scene scene =
-      ckpd::load_scene(write_file(dir / "case.yaml", case_text(fracture, friction)));
+      ckpd::load_scene(write_file(dir / "case.yaml", case_text(fracture, friction, bonds_only)));
   ckpd::Simulation sim(scene);
   const int warm_up = 40, counted = 40;
   for (int k = 0; k < warm_up; ++k) sim.advance(k + 1 == warm_up);
@@ -226,6 +228,20 @@ TEST_CASE("a time step of a damaged 3D body in contact, bonds breaking, allocate
   REQUIRE(c.broken_after > c.broken_before);
   REQUIRE(c.broken_before > 0);
   REQUIRE(c.precracked > 0);
+  REQUIRE(c.contact_energy > 0);
+  CHECK(c.most_in_one_step == 0);
+  CHECK(c.with_energy == 0);
+}
+
+// The same with bonds only (nu = 1/4): the bond-only kernel fails and books its bonds in its own
+// pass, with flags kept in the kernel's workspace between steps.
+TEST_CASE("a time step of a damaged bond-only 3D body, bonds breaking, allocates nothing",
+          "[allocation]") {
+  const Count c = count_allocations(true, false, true);
+  INFO("broken bonds " << c.broken_before << " -> " << c.broken_after << ", contact energy "
+                       << c.contact_energy);
+  REQUIRE(c.broken_after > c.broken_before);
+  REQUIRE(c.broken_before > 0);
   REQUIRE(c.contact_energy > 0);
   CHECK(c.most_in_one_step == 0);
   CHECK(c.with_energy == 0);
