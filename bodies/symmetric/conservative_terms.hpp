@@ -103,6 +103,44 @@ SetTerm<4> vertex_tetrahedron(const Context<Model>& ctx, std::uint32_t c, std::u
   return term;
 }
 
+// An ill-conditioned triangle {i, a, b} (or one near the degeneracy threshold), energy-
+// consistent form: each vertex's own view, for the active vertices (bit 0 i, 1 a, 2 b).
+template <class Model, bool kEnergy>
+inline void triangle_separate_conservative(const Context<Model>& ctx, SymmetricKernelThread& t,
+                                           Centre& centre, std::size_t a, std::size_t b,
+                                           unsigned active) {
+  const Body& body = *ctx.body;
+  const std::uint32_t ii = centre.index, vj = t.up[a], vk = t.up[b];
+  const double Vi = body.volume[ii];
+  const double k2i = ctx.model.triangle_force_weight(body.dv2[ii]);
+  bool s[3] = {false, false, false};
+  const SetTerm<3> tv[3] = {vertex_triangle(ctx, ii, vj, vk, s[0]),
+                            vertex_triangle(ctx, vj, ii, vk, s[1]),
+                            vertex_triangle(ctx, vk, ii, vj, s[2])};
+  const bool act[3] = {(active & 1) != 0, (active & 2) != 0, (active & 4) != 0};
+  const double k[3] = {k2i, t.k2[a], t.k2[b]};
+  const double Vs[3] = {Vi, t.vol[a], t.vol[b]};
+  const std::size_t slot[3] = {0, a, b};
+  // Perspective c lists c first, then the other two in increasing order.
+  constexpr int order[3][3] = {{0, 1, 2}, {1, 0, 2}, {2, 0, 1}};
+  Vec3 f[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  bool any = false, inverted = false;
+  for (int c = 0; c < 3; ++c) {
+    s[c] = s[c] && act[c];
+    if (!s[c]) continue;
+    any = true;
+    inverted |= tv[c].inverted;
+    const double share = Vs[c] * k[c] / 3;
+    for (int n = 0; n < 3; ++n) f[order[c][n]] += share * tv[c].force[static_cast<std::size_t>(n)];
+  }
+  if (!any) return;
+  for (int d = 0; d < 3; ++d)
+    centre.add<kEnergy>(t, slot[d], d == 0, f[d] / Vs[d], s[d] ? k[d] * tv[d].energy / 3 : 0.0);
+  if constexpr (kEnergy) centre.count.inverted_triangles += inverted;
+  ++centre.count.triangles;
+  ++centre.count.triangles_per_vertex;
+}
+
 template <class Model, bool kEnergy, bool kPenalty, bool kStencil>
 inline void triangle_term_conservative(const Context<Model>& ctx, SymmetricKernelThread& t,
                                        Centre& centre, const Pair& pr) {
@@ -172,34 +210,8 @@ inline void triangle_term_conservative(const Context<Model>& ctx, SymmetricKerne
     ++centre.count.triangles;
   } else if (!kStencil && A >= ctx.lo2) {
     // Ill-conditioned or near the degeneracy threshold: each vertex's own view.
-    const std::uint32_t vj = t.up[a], vk = t.up[b];
-    bool s[3] = {false, false, false};
-    const SetTerm<3> tv[3] = {vertex_triangle(ctx, ii, vj, vk, s[0]),
-                              vertex_triangle(ctx, vj, ii, vk, s[1]),
-                              vertex_triangle(ctx, vk, ii, vj, s[2])};
-    const bool act[3] = {pr.act_i, pr.act_j, pr.act_k};
-    const double k[3] = {k2i, t.k2[a], t.k2[b]};
-    const double Vs[3] = {Vi, t.vol[a], t.vol[b]};
-    const std::size_t slot[3] = {0, a, b};
-    // Perspective c lists c first, then the other two in increasing order.
-    constexpr int order[3][3] = {{0, 1, 2}, {1, 0, 2}, {2, 0, 1}};
-    Vec3 f[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-    bool any = false, inverted = false;
-    for (int c = 0; c < 3; ++c) {
-      s[c] = s[c] && act[c];
-      if (!s[c]) continue;
-      any = true;
-      inverted |= tv[c].inverted;
-      const double share = Vs[c] * k[c] / 3;
-      for (int n = 0; n < 3; ++n)
-        f[order[c][n]] += share * tv[c].force[static_cast<std::size_t>(n)];
-    }
-    if (!any) return;
-    for (int d = 0; d < 3; ++d)
-      centre.add<kEnergy>(t, slot[d], d == 0, f[d] / Vs[d], s[d] ? k[d] * tv[d].energy / 3 : 0.0);
-    if constexpr (kEnergy) centre.count.inverted_triangles += inverted;
-    ++centre.count.triangles;
-    ++centre.count.triangles_per_vertex;
+    const unsigned active = unsigned(pr.act_i) | unsigned(pr.act_j) << 1 | unsigned(pr.act_k) << 2;
+    triangle_separate_conservative<Model, kEnergy>(ctx, t, centre, a, b, active);
   }
 }
 

@@ -49,6 +49,16 @@ struct SymmetricKernelThread {
   bool linear_centre = false;
   std::vector<std::uint64_t> exact_slots;
 
+  // The batched triangles of a planar centre (triangle_batch.hpp): one chunk of pairs, rows of
+  // inputs and results, the pairs' active vertices and slots.
+  std::vector<double> tri;
+  std::vector<std::int64_t> tri_act;
+  std::vector<std::uint32_t> tri_a, tri_b;
+  // For the tests: centres that took the batch, and bit r set once a chunk of np pairs with
+  // np % 8 == r has been evaluated (never reset).
+  std::size_t tri_centres = 0;
+  unsigned tri_residues = 0;
+
   SymmetricKernelStats stats;
   // Bonds this thread failed in a fused evaluation (bond_only.hpp).
   std::size_t failed = 0;

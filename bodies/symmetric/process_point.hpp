@@ -9,9 +9,108 @@
 #include "bodies/symmetric/load_general.hpp"
 #include "bodies/symmetric/load_stencil.hpp"
 #include "bodies/symmetric/tetrahedron_loop.hpp"
+#include "bodies/symmetric/triangle_batch.hpp"
 #include "bodies/symmetric/triangle_term.hpp"
 
 namespace ckpd::symmetric {
+
+// The pairs (a, b) of point i's upper family, one by one: the triangle {i, a, b} and the
+// tetrahedra on it.
+template <class Model, bool kEnergy, bool kPenalty, bool kStencil>
+inline void pair_loop(const Context<Model>& ctx, SymmetricKernelThread& t, Centre& centre,
+                      std::size_t count, bool rows) {
+  constexpr bool kConservative = conservative_form<Model>();
+  const LatticeStencil* st = ctx.stencil;
+  const std::uint32_t* list = t.list.data();
+  const std::size_t W = t.words;
+  const std::uint64_t* own = t.own.data();
+  const std::uint64_t* exact_slots = t.linear_centre ? t.exact_slots.data() : nullptr;
+  // Some word of `row` (from word `from` on) shares an exact slot.
+  auto meets_exact = [&](const std::uint64_t* row, std::size_t from) {
+    for (std::size_t w = from; w < W; ++w)
+      if (row[w] & exact_slots[w]) return true;
+    return false;
+  };
+  for (std::size_t n = 0; n < count && rows; ++n) {
+    Pair pr;
+    const std::size_t a = list[n];
+    pr.a = a;
+    pr.ra = &t.adj[a * W];
+    // Far-field masking, i and a linear: every set on (a, b) holds b and its c in row a, so
+    // with no exact slot there, nothing on slot a is evaluated.
+    const bool linear_a = exact_slots != nullptr && !bit(exact_slots, a);
+    if (linear_a && !meets_exact(pr.ra, a >> 6)) continue;
+    pr.ia = t.intact_is_adjacency ? pr.ra : &t.adj_intact[a * W];
+    // Stencil path: pair (a, b) is number pair_base[a] + the rank of b in a's stencil row.
+    std::size_t pair_rank = kStencil ? st->pair_base[a] : 0;
+    const bool own_a = bit(own, a);
+    const double Pa[3] = {t.Rx[a], t.Ry[a], t.Rz[a]};
+    pr.pa[0] = t.rx[a];
+    pr.pa[1] = t.ry[a];
+    pr.pa[2] = t.rz[a];
+    for (std::size_t wb = a >> 6; wb < W; ++wb) {
+      std::uint64_t stencil_row = 0;
+      std::size_t word_rank = 0;
+      if constexpr (kStencil) {
+        stencil_row = st->adjacency[a * W + wb];
+        word_rank = pair_rank;
+        pair_rank += static_cast<std::size_t>(std::popcount(stencil_row));
+      }
+      for (std::uint64_t bbits = pr.ra[wb]; bbits; bbits &= bbits - 1) {
+        const std::size_t b = wb * 64 + static_cast<std::size_t>(std::countr_zero(bbits));
+        pr.only = nullptr;
+        if (linear_a && !bit(exact_slots, b)) {
+          // i, a, b linear: only tetrahedra with an exact fourth vertex c (in rows a and b).
+          const std::uint64_t* rb = &t.adj[b * W];
+          bool any = false;
+          for (std::size_t w = b >> 6; w < W && !any; ++w)
+            any = (pr.ra[w] & rb[w] & exact_slots[w]) != 0;
+          if (!any) continue;
+          pr.only = exact_slots;
+        }
+        pr.b = b;
+        pr.number = kStencil ? word_rank + static_cast<std::size_t>(std::popcount(
+                                               stencil_row & ((std::uint64_t{1} << (b & 63)) - 1)))
+                             : 0;
+        const bool own_b = bit(own, b), bond_ab = bit(pr.ia, b);
+        pr.edges_ab = own_a && own_b && bond_ab;
+        pr.act_i = ctx.all_edges ? pr.edges_ab : own_a && own_b;
+        pr.act_j = ctx.all_edges ? pr.edges_ab : own_a && bond_ab;
+        pr.act_k = ctx.all_edges ? pr.edges_ab : own_b && bond_ab;
+        const double Pb[3] = {t.Rx[b], t.Ry[b], t.Rz[b]};
+        pr.pb[0] = t.rx[b];
+        pr.pb[1] = t.ry[b];
+        pr.pb[2] = t.rz[b];
+        const double* pa = pr.pa;
+        const double* pb = pr.pb;
+        pr.RPQ[0] = Pa[1] * Pb[2] - Pa[2] * Pb[1];
+        pr.RPQ[1] = Pa[2] * Pb[0] - Pa[0] * Pb[2];
+        pr.RPQ[2] = Pa[0] * Pb[1] - Pa[1] * Pb[0];
+        pr.pq[0] = pa[1] * pb[2] - pa[2] * pb[1];
+        pr.pq[1] = pa[2] * pb[0] - pa[0] * pb[2];
+        pr.pq[2] = pa[0] * pb[1] - pa[1] * pb[0];
+        if constexpr (Model::kTriangles) {
+          if (ctx.pairs && pr.only == nullptr) {
+            if constexpr (kConservative) {
+              triangle_term_conservative<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
+            } else {
+              triangle_term<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
+            }
+          }
+        }
+        if constexpr (Model::kTetrahedra) {
+          if (ctx.triples) {
+            if constexpr (kConservative) {
+              tetrahedron_loop_conservative<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
+            } else {
+              tetrahedron_loop<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
+            }
+          }
+        }
+      }
+    }
+  }
+}
 
 template <class Model, bool kEnergy, bool kPenalty, bool kStencil>
 void process_point(const Context<Model>& ctx, std::size_t i, SymmetricKernelThread& t) {
@@ -30,97 +129,10 @@ void process_point(const Context<Model>& ctx, std::size_t i, SymmetricKernelThre
   }
 
   if constexpr (kSets) {
-    const LatticeStencil* st = ctx.stencil;
-    const std::uint32_t* list = t.list.data();
-    const std::size_t W = t.words;
-    const std::uint64_t* own = t.own.data();
-    const std::uint64_t* exact_slots = t.linear_centre ? t.exact_slots.data() : nullptr;
-    // Some word of `row` (from word `from` on) shares an exact slot.
-    auto meets_exact = [&](const std::uint64_t* row, std::size_t from) {
-      for (std::size_t w = from; w < W; ++w)
-        if (row[w] & exact_slots[w]) return true;
-      return false;
-    };
-    for (std::size_t n = 0; n < count && rows; ++n) {
-      Pair pr;
-      const std::size_t a = list[n];
-      pr.a = a;
-      pr.ra = &t.adj[a * W];
-      // Far-field masking, i and a linear: every set on (a, b) holds b and its c in row a, so
-      // with no exact slot there, nothing on slot a is evaluated.
-      const bool linear_a = exact_slots != nullptr && !bit(exact_slots, a);
-      if (linear_a && !meets_exact(pr.ra, a >> 6)) continue;
-      pr.ia = t.intact_is_adjacency ? pr.ra : &t.adj_intact[a * W];
-      // Stencil path: pair (a, b) is number pair_base[a] + the rank of b in a's stencil row.
-      std::size_t pair_rank = kStencil ? st->pair_base[a] : 0;
-      const bool own_a = bit(own, a);
-      const double Pa[3] = {t.Rx[a], t.Ry[a], t.Rz[a]};
-      pr.pa[0] = t.rx[a];
-      pr.pa[1] = t.ry[a];
-      pr.pa[2] = t.rz[a];
-      for (std::size_t wb = a >> 6; wb < W; ++wb) {
-        std::uint64_t stencil_row = 0;
-        std::size_t word_rank = 0;
-        if constexpr (kStencil) {
-          stencil_row = st->adjacency[a * W + wb];
-          word_rank = pair_rank;
-          pair_rank += static_cast<std::size_t>(std::popcount(stencil_row));
-        }
-        for (std::uint64_t bbits = pr.ra[wb]; bbits; bbits &= bbits - 1) {
-          const std::size_t b = wb * 64 + static_cast<std::size_t>(std::countr_zero(bbits));
-          pr.only = nullptr;
-          if (linear_a && !bit(exact_slots, b)) {
-            // i, a, b linear: only tetrahedra with an exact fourth vertex c (in rows a and b).
-            const std::uint64_t* rb = &t.adj[b * W];
-            bool any = false;
-            for (std::size_t w = b >> 6; w < W && !any; ++w)
-              any = (pr.ra[w] & rb[w] & exact_slots[w]) != 0;
-            if (!any) continue;
-            pr.only = exact_slots;
-          }
-          pr.b = b;
-          pr.number = kStencil
-                          ? word_rank + static_cast<std::size_t>(std::popcount(
-                                            stencil_row & ((std::uint64_t{1} << (b & 63)) - 1)))
-                          : 0;
-          const bool own_b = bit(own, b), bond_ab = bit(pr.ia, b);
-          pr.edges_ab = own_a && own_b && bond_ab;
-          pr.act_i = ctx.all_edges ? pr.edges_ab : own_a && own_b;
-          pr.act_j = ctx.all_edges ? pr.edges_ab : own_a && bond_ab;
-          pr.act_k = ctx.all_edges ? pr.edges_ab : own_b && bond_ab;
-          const double Pb[3] = {t.Rx[b], t.Ry[b], t.Rz[b]};
-          pr.pb[0] = t.rx[b];
-          pr.pb[1] = t.ry[b];
-          pr.pb[2] = t.rz[b];
-          const double* pa = pr.pa;
-          const double* pb = pr.pb;
-          pr.RPQ[0] = Pa[1] * Pb[2] - Pa[2] * Pb[1];
-          pr.RPQ[1] = Pa[2] * Pb[0] - Pa[0] * Pb[2];
-          pr.RPQ[2] = Pa[0] * Pb[1] - Pa[1] * Pb[0];
-          pr.pq[0] = pa[1] * pb[2] - pa[2] * pb[1];
-          pr.pq[1] = pa[2] * pb[0] - pa[0] * pb[2];
-          pr.pq[2] = pa[0] * pb[1] - pa[1] * pb[0];
-          if constexpr (Model::kTriangles) {
-            if (ctx.pairs && pr.only == nullptr) {
-              if constexpr (kConservative) {
-                triangle_term_conservative<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
-              } else {
-                triangle_term<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
-              }
-            }
-          }
-          if constexpr (Model::kTetrahedra) {
-            if (ctx.triples) {
-              if constexpr (kConservative) {
-                tetrahedron_loop_conservative<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre,
-                                                                                  pr);
-              } else {
-                tetrahedron_loop<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
-              }
-            }
-          }
-        }
-      }
+    if (rows && planar_centre(ctx, t)) {
+      triangle_batch_point<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre);
+    } else {
+      pair_loop<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, count, rows);
     }
   }
 

@@ -7,6 +7,35 @@
 
 namespace ckpd::symmetric {
 
+// An ill-conditioned triangle {i, a, b} (or one near the degeneracy threshold), own-family
+// form: each of its active vertices (bit 0 i, 1 a, 2 b of `active`) on its own, as the reference.
+template <class Model, bool kEnergy>
+inline void triangle_separate(const Context<Model>& ctx, SymmetricKernelThread& t, Centre& centre,
+                              std::size_t a, std::size_t b, unsigned active) {
+  const std::uint32_t ii = centre.index, vj = t.up[a], vk = t.up[b];
+  Vec3 f;
+  double w = 0;
+  bool seen = false, inverted = false, inv = false;
+  if ((active & 1) && reference_triangle_term(ctx, ii, vj, vk, f, w, inv)) {
+    centre.add<kEnergy>(t, 0, true, f, w);
+    seen = true;
+    inverted |= inv;
+  }
+  if ((active & 2) && reference_triangle_term(ctx, vj, ii, vk, f, w, inv)) {
+    centre.add<kEnergy>(t, a, false, f, w);
+    seen = true;
+    inverted |= inv;
+  }
+  if ((active & 4) && reference_triangle_term(ctx, vk, ii, vj, f, w, inv)) {
+    centre.add<kEnergy>(t, b, false, f, w);
+    seen = true;
+    inverted |= inv;
+  }
+  if constexpr (kEnergy) centre.count.inverted_triangles += inverted;
+  centre.count.triangles += seen;
+  centre.count.triangles_per_vertex += seen;
+}
+
 template <class Model, bool kEnergy, bool kPenalty, bool kStencil>
 inline void triangle_term(const Context<Model>& ctx, SymmetricKernelThread& t, Centre& centre,
                           const Pair& pr) {
@@ -76,28 +105,7 @@ inline void triangle_term(const Context<Model>& ctx, SymmetricKernelThread& t, C
     ++centre.count.triangles;
   } else if (!kStencil && A >= ctx.lo2) {
     // Ill-conditioned or near the degeneracy threshold: each vertex on its own.
-    const std::uint32_t ii = centre.index, vj = t.up[a], vk = t.up[b];
-    Vec3 f;
-    double w = 0;
-    bool seen = false, inverted = false, inv = false;
-    if ((active & 1) && reference_triangle_term(ctx, ii, vj, vk, f, w, inv)) {
-      centre.add<kEnergy>(t, 0, true, f, w);
-      seen = true;
-      inverted |= inv;
-    }
-    if ((active & 2) && reference_triangle_term(ctx, vj, ii, vk, f, w, inv)) {
-      centre.add<kEnergy>(t, a, false, f, w);
-      seen = true;
-      inverted |= inv;
-    }
-    if ((active & 4) && reference_triangle_term(ctx, vk, ii, vj, f, w, inv)) {
-      centre.add<kEnergy>(t, b, false, f, w);
-      seen = true;
-      inverted |= inv;
-    }
-    if constexpr (kEnergy) centre.count.inverted_triangles += inverted;
-    centre.count.triangles += seen;
-    centre.count.triangles_per_vertex += seen;
+    triangle_separate<Model, kEnergy>(ctx, t, centre, a, b, active);
   }
 }
 
