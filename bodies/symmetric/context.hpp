@@ -15,6 +15,16 @@
 
 namespace ckpd {
 
+// A lattice stencil's non-degenerate pairs (a, b) with their 1 / |A|, A_z and active vertices
+// (all three: 7), for the batched triangles of complete centres (symmetric/triangle_batch.hpp).
+struct FullPairs {
+  const LatticeStencil* stencil = nullptr;  // the stencil they are of; null: not built
+  std::size_t count = 0;
+  std::vector<std::uint32_t> a, b;
+  std::vector<double> inv, z;
+  std::vector<std::int64_t> act;
+};
+
 // Scratch of one OpenMP thread. The point being processed is i; its "upper family" is the
 // slots a = 0..m-1 holding its neighbours j > i in increasing index order (CSR order), so
 // every set enumerated from i has i as its smallest vertex and is seen from no other point.
@@ -56,6 +66,7 @@ struct SymmetricKernelThread {
   std::vector<std::uint32_t> tri_a, tri_b;
   // For the tests: centres that took the batch, and bit r set once a chunk of np pairs with
   // np % 8 == r has been evaluated (never reset).
+  FullPairs full_pairs;  // cleared at every evaluation (compute_of)
   std::size_t tri_centres = 0;
   unsigned tri_residues = 0;
 

@@ -62,6 +62,7 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
     team = omp_get_num_threads();
     SymmetricKernelThread& th = workspace.thread(t);
     th.stats = {};
+    th.full_pairs.stencil = nullptr;  // the body's stencil may be another than last time's
     th.failed = 0;
     th.force.assign(n, Vec3::Zero());  // keeps its capacity: no allocation after the first call
     // The energy buffer grows with the force buffer, not at the first evaluation with energy:

@@ -14,6 +14,8 @@
 // path's order: the results are the scalar path's bits. An inactive vertex's share is a zero.
 // Ill-conditioned triangles (general path, |A| <= well2) are handed to the per-vertex code in
 // their turn in pass 3, as the scalar path does.
+#include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <cstring>
 
@@ -73,6 +75,67 @@ enum Row : std::size_t {
 };
 }  // namespace triangle_batch
 
+// A stencil centre whose pairs are all of the stencil's: every slot present, in slot order, and
+// no failed bond among i and its neighbours (so every pair is active for all three vertices).
+template <class Model>
+inline bool complete_centre(const Context<Model>& ctx, const SymmetricKernelThread& t) {
+  const LatticeStencil& st = *ctx.stencil;
+  if (t.count != st.slots || !t.intact_is_adjacency) return false;
+  const std::uint32_t* list = t.list.data();
+  bool in_order = true;
+  for (std::size_t n = 0; n < t.count; ++n) in_order = in_order & (list[n] == n);
+  std::size_t own = 0;
+  for (std::size_t w = 0; w < t.words; ++w)
+    own += static_cast<std::size_t>(std::popcount(t.own[w]));
+  return in_order && own == t.count;
+}
+
+// The thread's list of the stencil's non-degenerate pairs in the pair loop's order (built at an
+// evaluation's first complete centre; compute_of clears it at every evaluation). The rows are
+// padded to a multiple of 8 entries for the vector lanes.
+template <class Model>
+inline const FullPairs& full_pairs(const Context<Model>& ctx, SymmetricKernelThread& t) {
+  FullPairs& full = t.full_pairs;
+  const LatticeStencil* st = ctx.stencil;
+  if (full.stencil == st) return full;
+  // Cleared, not reassigned: the capacity stays (no allocation after the first evaluation).
+  full.a.clear();
+  full.b.clear();
+  full.inv.clear();
+  full.z.clear();
+  full.act.clear();
+  const std::size_t W = st->words;
+  for (std::size_t a = 0; a < st->slots; ++a) {
+    std::size_t pair_rank = st->pair_base[a];
+    for (std::size_t wb = a >> 6; wb < W; ++wb) {
+      const std::uint64_t stencil_row = st->adjacency[a * W + wb];
+      const std::size_t word_rank = pair_rank;
+      pair_rank += static_cast<std::size_t>(std::popcount(stencil_row));
+      for (std::uint64_t bbits = stencil_row; bbits; bbits &= bbits - 1) {
+        const std::size_t b = wb * 64 + static_cast<std::size_t>(std::countr_zero(bbits));
+        const std::size_t number =
+            word_rank + static_cast<std::size_t>(
+                            std::popcount(stencil_row & ((std::uint64_t{1} << (b & 63)) - 1)));
+        if (st->inv_area[number] == 0) continue;
+        full.a.push_back(static_cast<std::uint32_t>(a));
+        full.b.push_back(static_cast<std::uint32_t>(b));
+        full.inv.push_back(st->inv_area[number]);
+        full.z.push_back(st->area_z[number]);
+        full.act.push_back(7);
+      }
+    }
+  }
+  full.count = full.a.size();
+  const std::size_t padded = (full.count + 7) / 8 * 8;
+  full.a.resize(padded, 0);
+  full.b.resize(padded, 0);
+  full.inv.resize(padded, 0.0);
+  full.z.resize(padded, 0.0);
+  full.act.resize(padded, 0);
+  full.stencil = st;
+  return full;
+}
+
 #if defined(CKPD_BATCHED_TETRAHEDRA)
 // The square root of every lane (correctly rounded, as std::sqrt).
 inline batch::d4 lanes_sqrt(batch::d4 v) {
@@ -112,9 +175,6 @@ inline void triangle_batch_point(const Context<Model>& ctx, SymmetricKernelThrea
   double* fy = t.fy.data();
   double* slot_w = t.w.data();
   double* row = t.tri.data();
-  std::int64_t* act = t.tri_act.data();
-  std::uint32_t* slot_a = t.tri_a.data();
-  std::uint32_t* slot_b = t.tri_b.data();
   const std::uint32_t ii = centre.index;
   const double k2i = ctx.model.triangle_force_weight(body.dv2[ii]);
   const double e2i = ctx.model.triangle_energy_weight(body.dv2[ii]);
@@ -122,14 +182,16 @@ inline void triangle_batch_point(const Context<Model>& ctx, SymmetricKernelThrea
   const Model model = ctx.model;
 
   // Passes 2 and 3 over the first `np` pairs of the chunk.
-  auto evaluate = [&](std::size_t np) {
+  // The pairs' reference numbers, active vertices and slots come from the chunk's rows or, for
+  // a complete centre, from the stencil's pair list (full_pairs).
+  auto evaluate = [&](std::size_t np, const double* __restrict ref, const double* __restrict ref_z,
+                      const std::int64_t* __restrict act, const std::uint32_t* __restrict slot_a,
+                      const std::uint32_t* __restrict slot_b) {
     t.tri_residues |= 1u << (np % 8);
     double* __restrict pax = row + kPax * C;
     double* __restrict pay = row + kPay * C;
     double* __restrict pbx = row + kPbx * C;
     double* __restrict pby = row + kPby * C;
-    double* __restrict ref = row + kRef * C;
-    double* __restrict ref_z = row + kRefZ * C;
     double* __restrict k2a = row + kK2a * C;
     double* __restrict k2b = row + kK2b * C;
     double* __restrict e2a = row + kE2a * C;
@@ -344,6 +406,42 @@ inline void triangle_batch_point(const Context<Model>& ctx, SymmetricKernelThrea
 
   ++t.tri_centres;
   // Pass 1.
+  if constexpr (kStencil) {
+    if (complete_centre(ctx, t)) {
+      // Every slot present, every bond near i intact: the pairs are the stencil's, all active.
+      const FullPairs& full = full_pairs(ctx, t);
+      for (std::size_t q0 = 0; q0 < full.count; q0 += C) {
+        const std::size_t np = std::min(C, full.count - q0);
+        const std::uint32_t* fa = full.a.data() + q0;
+        const std::uint32_t* fb = full.b.data() + q0;
+        for (std::size_t p = 0; p < np; ++p) {
+          const std::size_t a = fa[p], b = fb[p];
+          row[kPax * C + p] = rx[a];
+          row[kPay * C + p] = ry[a];
+          row[kPbx * C + p] = rx[b];
+          row[kPby * C + p] = ry[b];
+          row[kK2a * C + p] = k2[a];
+          row[kK2b * C + p] = k2[b];
+          if constexpr (kEnergy) {
+            row[kE2a * C + p] = e2[a];
+            row[kE2b * C + p] = e2[b];
+          }
+          if constexpr (kConservative) {
+            row[kVa * C + p] = vol[a];
+            row[kVb * C + p] = vol[b];
+          }
+        }
+        evaluate(np, full.inv.data() + q0, full.z.data() + q0, full.act.data() + q0, fa, fb);
+      }
+      return;
+    }
+  }
+  std::int64_t* act = t.tri_act.data();
+  std::uint32_t* slot_a = t.tri_a.data();
+  std::uint32_t* slot_b = t.tri_b.data();
+  auto evaluate_chunk = [&](std::size_t np) {
+    evaluate(np, row + kRef * C, row + kRefZ * C, act, slot_a, slot_b);
+  };
   std::size_t np = 0;
   for (std::size_t n = 0; n < t.count; ++n) {
     const std::size_t a = list[n];
@@ -394,13 +492,13 @@ inline void triangle_batch_point(const Context<Model>& ctx, SymmetricKernelThrea
         slot_a[np] = static_cast<std::uint32_t>(a);
         slot_b[np] = static_cast<std::uint32_t>(b);
         if (++np == C) {
-          evaluate(np);
+          evaluate_chunk(np);
           np = 0;
         }
       }
     }
   }
-  if (np > 0) evaluate(np);
+  if (np > 0) evaluate_chunk(np);
 }
 
 }  // namespace ckpd::symmetric
