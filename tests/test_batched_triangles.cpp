@@ -126,6 +126,7 @@ TEST_CASE("batched triangles give the scalar pair loop's numbers and the same bi
     for (const Scene& s : scenes())
       for (const Variant& base : variants()) {
         if (base.stencil && s.jitter > 0) continue;
+        if (m != 0.5 && s.m != kM) continue;  // the Seth-Hill law on the small families only
         Variant v = base;
         v.strain_measure = m;
         std::mt19937 rng(99);
