@@ -29,14 +29,32 @@ inline std::size_t load_upper_family_stencil(const Context<Model>& ctx, std::siz
   std::fill_n(t.own.begin(), W, 0);
   std::fill_n(t.present.begin(), W, 0);
   bool failed_near = ctx.row_failed != nullptr && ctx.row_failed[i] != 0;
+  // The slots first (independent look-ups), then the bit rows (in registers for one word: a
+  // read-modify-write of the same word per slot would chain the iterations), then the slots'
+  // contents.
+  std::uint32_t* __restrict list = t.list.data();
+  for (std::size_t n = 0; n < count; ++n)
+    list[n] = static_cast<std::uint32_t>(st.slot(i, nb[first + n]));
+  if (W == 1) {
+    std::uint64_t present = 0, own = 0;
+    for (std::size_t n = 0; n < count; ++n) {
+      const std::uint64_t b = std::uint64_t{1} << list[n];
+      present |= b;
+      own |= ctx.bond_intact(first + n) ? b : 0;
+    }
+    t.present[0] = present;
+    t.own[0] = own;
+  } else {
+    for (std::size_t n = 0; n < count; ++n) {
+      set_bit(t.present.data(), list[n]);
+      if (ctx.bond_intact(first + n)) set_bit(t.own.data(), list[n]);
+    }
+  }
   for (std::size_t n = 0; n < count; ++n) {
     const std::uint32_t j = nb[first + n];
-    const auto a = static_cast<std::size_t>(st.slot(i, j));
+    const std::size_t a = list[n];
     t.up[a] = j;
-    t.list[n] = static_cast<std::uint32_t>(a);
-    set_bit(t.present.data(), a);
     fill_slot(ctx, t, a, j, Xi, ui);
-    if (ctx.bond_intact(first + n)) set_bit(t.own.data(), a);
     if (ctx.row_failed != nullptr) failed_near = failed_near || ctx.row_failed[j] != 0;
   }
   mark_exact_slots(ctx, t, i);
