@@ -234,14 +234,18 @@ inline void fill_slot(const Context<Model>& ctx, SymmetricKernelThread& t, std::
     t.k2[a] = ctx.model.triangle_force_weight(body.dv2[j]);
     t.e2[a] = ctx.model.triangle_energy_weight(body.dv2[j]);
   }
+  // (The tetrahedron weights only for a body with tetrahedra: nothing reads them otherwise.)
   if constexpr (Model::kTetrahedra) {
-    t.k3[a] = ctx.model.tetrahedron_force_weight(body.dv3[j]);
-    t.e3[a] = ctx.model.tetrahedron_energy_weight(body.dv3[j]);
+    if (ctx.triples) {
+      t.k3[a] = ctx.model.tetrahedron_force_weight(body.dv3[j]);
+      t.e3[a] = ctx.model.tetrahedron_energy_weight(body.dv3[j]);
+    }
   }
   if constexpr (conservative_form<Model>()) {
     t.vol[a] = body.volume[j];
     t.inv_vol[a] = 1 / body.volume[j];
-    if constexpr (Model::kTetrahedra) t.x3[a] = body.volume[j] * t.k3[a];
+    if constexpr (Model::kTetrahedra)
+      if (ctx.triples) t.x3[a] = body.volume[j] * t.k3[a];
   }
   t.fx[a] = t.fy[a] = t.fz[a] = t.w[a] = 0;
 }
