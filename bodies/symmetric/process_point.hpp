@@ -1,7 +1,8 @@
 #pragma once
 // Point i of the symmetric kernel: load its upper family (general or stencil path), then its
 // bonds, and for each bonded pair (a, b) of its upper family the triangle {i, a, b} and the
-// tetrahedra on it; flush i's and every slot's share into the thread's whole-body arrays.
+// tetrahedra on it (a planar centre of a 2D body: its triangles in batches, triangle_batch.hpp);
+// flush i's and every slot's share into the thread's whole-body arrays.
 // With kEnergy the inverted sets are counted; with kPenalty they get the inversion penalty.
 // With kStencil, point i's slots and reference geometry come from the body's lattice stencil.
 #include "bodies/symmetric/bond_loop.hpp"
