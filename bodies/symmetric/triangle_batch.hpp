@@ -4,9 +4,11 @@
 // their area vectors are (0, 0, a_z). The batch evaluates them in three passes over chunks of
 // kTriangleChunk pairs:
 //   1. enumerate the pairs (a, b) of the upper family as process_point does, with their active
-//      vertices, and copy their offsets and weights into structure-of-arrays rows;
-//   2. one loop without branches over the chunk, which the compiler vectorises (#pragma omp
-//      simd): |a|, the law, and every vertex's force and energy share;
+//      vertices, and copy their offsets and weights into structure-of-arrays rows (a complete
+//      stencil centre takes the stencil's pair list, full_pairs, in place of the bit rows);
+//   2. one loop without branches over the chunk: |a|, the law, and every vertex's force and
+//      energy share, 4 lanes at a time for the linear law in AVX2 builds (GCC vector extensions,
+//      as tetrahedron_batch.hpp), lane by lane otherwise;
 //   3. add the shares to i, a and b in the pairs' order.
 // Pass 2 is triangle_term (triangle_term_conservative) with the z components' zero terms left
 // out: a product with a zero factor is a signed zero, and x - 0 = x, so every share is the same
