@@ -42,13 +42,23 @@ void classify_far_field(const Body& body, FarField& ff) {
       }
       if (!(worst < T * T)) ff.exact[i] = 1;
     }
-    // A failed bond of a family member makes i exact.
-#pragma omp for schedule(static)
+    // A failed bond with both ends in {i} and i's family makes i exact. Row i of the operator
+    // is built from the sets that hold i, and every edge of such a set is a bond between two
+    // points of {i} and its family (all its vertices are bonded to i): a failed bond with an end
+    // outside switches none of them off, and row i stays as assembled. Members' rows with a
+    // failed bond are searched only where row_failed says there is one.
+#pragma omp for schedule(dynamic, 256)
     for (std::size_t i = 0; i < n; ++i) {
       if (ff.exact[i]) continue;
-      std::uint8_t failed = ff.row_failed[i];
-      for (std::size_t k = offset[i]; k < offset[i + 1] && !failed; ++k)
-        failed = ff.row_failed[nb[k]];
+      bool failed = ff.row_failed[i] != 0;
+      const std::uint32_t* first = nb + offset[i];
+      const std::uint32_t* last = nb + offset[i + 1];
+      for (const std::uint32_t* p = first; p < last && !failed; ++p) {
+        const std::uint32_t j = *p;
+        if (!ff.row_failed[j]) continue;
+        for (std::size_t k = offset[j]; k < offset[j + 1] && !failed; ++k)
+          failed = intact[k] == 0 && (nb[k] == i || std::binary_search(first, last, nb[k]));
+      }
       if (failed) ff.exact[i] = 1;
     }
     // Centre i is skipped when i and every upper neighbour (j > i) are linear.

@@ -1,9 +1,9 @@
 #pragma once
 // The adaptive linearised far field (issue 20, THEORY.md section 11b). Each step every point is
-// classified: *linear* while no bond of any point of its family (itself included) has failed and
-// max_j |dx^ij - dX^ij| / L^ij over its family stays below the tolerance T; otherwise *exact*,
-// and exact for good (damage is permanent, and the rule keeps the decision cheap and sticky).
-// Exact points get the symmetric kernel's exact force: every set with an exact vertex is
+// classified: *linear* while no bond between two points of its family (itself included) has
+// failed and max_j |dx^ij - dX^ij| / L^ij over its family stays below the tolerance T; otherwise
+// *exact*, and exact for good (damage is permanent, and the rule keeps the decision cheap and
+// sticky). Exact points get the symmetric kernel's exact force: every set with an exact vertex is
 // evaluated, because a centre is skipped only when it and its whole upper family are linear,
 // and within a centre a set is left out only when none of its vertices is exact (per-set
 // masking, SymmetricKernelWorkspace::exact_point: its forces would land on linear rows only).
