@@ -7,7 +7,8 @@
 #
 #   bench/lammps_compare.sh [--repeats 3] [--threads "1 2"] [--ckpd build/src/ckpd] [--no-sanity]
 #
-# Needs LAMMPS with the PERI package: on Debian `apt-get install lammps` (the package has PERI
+# Needs LAMMPS with the PERI package and its examples: on Debian `apt-get install lammps
+# lammps-examples` (the example input is in lammps-examples; the package has PERI
 # and MPI, not the OPENMP package). CI does not run this script.
 # Per thread count N and repeat, interleaved (LAMMPS, ckpd, next N, ...) so that both see the
 # same machine load, it records the whole process's wall time and peak RSS (/usr/bin/time) and
@@ -37,10 +38,10 @@ done
 example=/usr/share/lammps/examples/peri/in.peri.pmb
 case_file="$here/lammps/pmb_cylinder.yaml"
 if ! command -v lmp > /dev/null; then
-  echo "lammps_compare.sh: no 'lmp' on PATH; install LAMMPS with: sudo apt-get install lammps" >&2
+  echo "lammps_compare.sh: no 'lmp' on PATH; install LAMMPS with: sudo apt-get install lammps lammps-examples" >&2
   exit 2
 fi
-[[ -f "$example" ]] || { echo "lammps_compare.sh: $example not found (Debian package lammps)" >&2; exit 2; }
+[[ -f "$example" ]] || { echo "lammps_compare.sh: $example not found (Debian package lammps-examples: sudo apt-get install lammps-examples)" >&2; exit 2; }
 [[ -x "$ckpd" ]] || { echo "lammps_compare.sh: $ckpd not built (cmake --build build)" >&2; exit 2; }
 PY=/usr/bin/python3
 work="$(mktemp -d)"
