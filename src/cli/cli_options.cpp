@@ -1,6 +1,7 @@
 #include "src/cli/cli_options.hpp"
 
 #include "ckpd_build_info.hpp"
+#include "ckpd_git_commit.hpp"
 #include "src/cli/isa.hpp"
 #include "src/engine/ranks.hpp"
 
