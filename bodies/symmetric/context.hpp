@@ -73,6 +73,11 @@ struct SymmetricKernelThread {
   SymmetricKernelStats stats;
   // Bonds this thread failed in a fused evaluation (bond_only.hpp).
   std::size_t failed = 0;
+  // Each thread's scratch is a separate allocation, and the heap may place the next thread's
+  // right after this one: two cache lines of padding keep the counters above, written at every
+  // centre, off the lines that hold the next thread's vector pointers (false sharing; measured
+  // on the 2D stencil path at 2 threads, docs/PERFORMANCE.md).
+  char false_sharing_pad[128] = {};
 
   // The per-slot arrays of doubles hold row_words * 64 + 7 entries at least (past the slots:
   // zero or an earlier point's finite values), so that a block of 4 (or 8) slots starting at any
