@@ -109,6 +109,36 @@ void sum_in_rank_order([[maybe_unused]] std::vector<double>& data,
 #endif
 }
 
+void exchange([[maybe_unused]] const std::vector<std::vector<double>>& send,
+              [[maybe_unused]] std::vector<std::vector<double>>& receive) {
+#ifdef CKPD_WITH_MPI
+  const int n = count();
+  if (n == 1) return;
+  const int me = rank();
+  constexpr int kHaloTag = 14;
+  // Kept between calls (only the main thread calls MPI): a step allocates nothing once the
+  // first exchange has sized it.
+  static std::vector<MPI_Request> requests;
+  requests.clear();
+  for (int q = 0; q < n; ++q) {
+    const std::size_t Q = static_cast<std::size_t>(q);
+    if (q == me || Q >= receive.size() || receive[Q].empty()) continue;
+    requests.emplace_back();
+    MPI_Irecv(receive[Q].data(), static_cast<int>(receive[Q].size()), MPI_DOUBLE, q, kHaloTag,
+              MPI_COMM_WORLD, &requests.back());
+  }
+  for (int q = 0; q < n; ++q) {
+    const std::size_t Q = static_cast<std::size_t>(q);
+    if (q == me || Q >= send.size() || send[Q].empty()) continue;
+    requests.emplace_back();
+    // MPI 3 takes a const buffer.
+    MPI_Isend(send[Q].data(), static_cast<int>(send[Q].size()), MPI_DOUBLE, q, kHaloTag,
+              MPI_COMM_WORLD, &requests.back());
+  }
+  MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE);
+#endif
+}
+
 bool any(bool flag) {
 #ifdef CKPD_WITH_MPI
   if (count() > 1) {

@@ -38,6 +38,13 @@ inline bool root() {
 // scratch (R x data.size()), kept by the caller so that a step allocates nothing.
 void sum_in_rank_order(std::vector<double>& data, std::vector<double>& gathered);
 
+// Point-to-point exchange (the halo's messages, halo_exchange.hpp): send[q] goes to rank q and
+// receive[q] is filled from rank q, for every q != this rank whose buffer is not empty; both
+// sides must agree on the sizes (the halo lists make them). Non-blocking sends and receives, all
+// posted before any wait. A collective over the ranks that exchange; without MPI a no-op.
+void exchange(const std::vector<std::vector<double>>& send,
+              std::vector<std::vector<double>>& receive);
+
 // Whether `flag` is true on any rank (a collective: every rank calls it at the same point).
 bool any(bool flag);
 // Rank 0's value of `flag` on every rank.
