@@ -70,6 +70,15 @@ inline BodyDefinition block(int dimension, int nx, int ny, int nz, InteractionCo
   return d;
 }
 
+// Point volumes scaled by random factors in [0.7, 1.3] (the family volume raised with them, so
+// beta stays <= 1): where the vertices of a set carry different volumes the energy-consistent
+// form differs from the own-family one, and tests of it need such bodies.
+inline void vary_volumes(BodyDefinition& d, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(0.7, 1.3);
+  for (double& v : d.volume) v *= u(rng);
+  d.full_family_volume *= 1.3;
+}
+
 // Random displacements of up to +-amplitude dx per component (in-plane in 2D).
 inline void perturb(Body& body, double amplitude, std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-amplitude * kDx, amplitude * kDx);

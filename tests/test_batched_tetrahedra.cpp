@@ -47,11 +47,7 @@ std::string describe(const Scene& s, const Variant& v) {
 
 Body make(const Scene& s, const Variant& v, std::mt19937& rng) {
   BodyDefinition d = block(s.dimension, s.nx, s.ny, s.nz, constants_for(s), s.jitter, rng, s.m);
-  if (v.form == ForceForm::energy_consistent) {
-    std::uniform_real_distribution<double> u(0.7, 1.3);
-    for (double& vol : d.volume) vol *= u(rng);
-    d.full_family_volume *= 1.3;
-  }
+  if (v.form == ForceForm::energy_consistent) vary_volumes(d, rng);
   d.force_form = v.form;
   d.damage_rule = v.rule;
   d.lattice_stencil = v.stencil;

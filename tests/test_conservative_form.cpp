@@ -37,11 +37,7 @@ BodyDefinition varied_block(int dimension, int nx, int ny, int nz, double nu, do
                             bool vary_volume = true) {
   const Scene s{"", dimension, nu, jitter, nx, ny, nz};
   BodyDefinition d = block(dimension, nx, ny, nz, constants_for(s), jitter, rng);
-  if (vary_volume) {
-    std::uniform_real_distribution<double> u(0.7, 1.3);
-    for (double& v : d.volume) v *= u(rng);
-    d.full_family_volume *= 1.3;  // keeps beta <= 1
-  }
+  if (vary_volume) vary_volumes(d, rng);
   d.force_form = form;
   d.damage_rule = rule;
   return d;
@@ -147,9 +143,7 @@ TEST_CASE("energy-consistent symmetric kernel equals the energy-consistent refer
           std::mt19937 rng(12345);
           BodyDefinition d =
               block(s.dimension, s.nx, s.ny, s.nz, constants_for(s), s.jitter, rng, s.m);
-          std::uniform_real_distribution<double> u(0.7, 1.3);
-          for (double& v : d.volume) v *= u(rng);
-          d.full_family_volume *= 1.3;
+          vary_volumes(d, rng);
           d.force_form = ForceForm::energy_consistent;
           d.damage_rule = rule;
           d.lattice_stencil = stencil;
