@@ -354,7 +354,8 @@ StiffnessTerms stiffness_terms(const Body& body, std::size_t i) {
 
 double strain_energy(const Body& body) {
   double e = 0;
-  for (std::size_t i = 0; i < body.size(); ++i) e += body.strain_energy_density[i] * body.volume[i];
+  for (std::size_t i = 0; i < body.size(); ++i)
+    if (body.books(i)) e += body.strain_energy_density[i] * body.volume[i];
   return e;
 }
 

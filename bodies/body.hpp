@@ -161,10 +161,18 @@ struct Body {
   std::vector<Vec3> external_force_density;
   std::vector<Vec3> force_density;            // total: internal + external + contact
   std::vector<double> strain_energy_density;  // W1/2 + W2/3 + W3/4, filled on request
-  // Distributed force work (MPI, src/engine/rank_forces.hpp): when not empty, the symmetric
-  // kernel evaluates only the sets centred at points i with owned_centres[i] != 0 (this rank's
-  // share); the ranks' partial force and energy buffers are then summed in rank order.
+  // Distributed force work (MPI, src/engine/force_sharing.hpp, src/engine/distribution.hpp):
+  // when not empty, the symmetric kernel evaluates only the sets centred at points i with
+  // owned_centres[i] != 0 (this rank's share); the ranks' partial force and energy buffers are
+  // then summed in rank order.
   std::vector<std::uint8_t> owned_centres;
+  // A body restricted to a rank's owned points and their halo (sub_body.hpp): when not empty,
+  // what the body books is that of the points with booked_points[i] != 0 alone, so that the
+  // ranks' figures add up to the whole body's: strain_energy, the damage step's dissipated energy
+  // (each point's own share) and failed bonds (a bond counted at its lower end),
+  // failed_bond_count, point damage maxima. Empty: every point (a whole body).
+  std::vector<std::uint8_t> booked_points;
+  bool books(std::size_t i) const { return booked_points.empty() || booked_points[i] != 0; }
 
   std::size_t size() const { return reference_position.size(); }
   Vec3 current_position(std::size_t i) const { return reference_position[i] + displacement[i]; }

@@ -67,16 +67,18 @@ FailureUpdate fail_bonds_only(const Model& model, Body& body, double half_drift)
   for (std::size_t i = 0; i < n; ++i) {
     // Each stored direction fails its own flag; the other direction is decided by the same
     // stretch when its row is visited.
+    const bool booked = body.books(i);
     lost[i] = failing_row_energy(model, body, i, half_drift, [&](std::size_t k) {
       if (!breaks_now(model, body, protect, i, k)) return false;
       body.bond_intact[k] = 0;
-      if (i < body.family.neighbour[k]) ++failed;
+      if (booked && i < body.family.neighbour[k]) ++failed;
       return true;
     });
   }
   FailureUpdate result;
   result.failed = failed;
-  for (std::size_t i = 0; i < n; ++i) result.dissipated += lost[i];
+  for (std::size_t i = 0; i < n; ++i)
+    if (body.books(i)) result.dissipated += lost[i];
   return result;
 }
 
@@ -111,7 +113,7 @@ std::size_t update_bond_failure_of(const Model& model, Body& body) {
     for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
       if (bond_failure_detail::breaks_now(model, body, protect, i, k)) {
         body.bond_intact[k] = 0;
-        if (i < body.family.neighbour[k]) ++failed;
+        if (i < body.family.neighbour[k] && body.books(i)) ++failed;
       }
     }
   }
@@ -137,12 +139,12 @@ FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double
   // clears nothing unless the body's bond count differs from the last body's.
   if (failing.size() != body.family.neighbour.size())
     failing.assign(body.family.neighbour.size(), 0);
-  std::size_t failed = 0;
+  std::size_t failed = 0, flagged = 0;
   // Each bond is tested once, from its lower end, and both stored directions are flagged: they
   // compute the same stretch bit for bit (the offsets are negated exactly), so this fails the
   // bonds update_bond_failure fails. The other direction's position is looked up only for the
   // bonds that fail; each flag is written by one iteration alone.
-#pragma omp parallel for schedule(static) reduction(+ : failed)
+#pragma omp parallel for schedule(static) reduction(+ : failed, flagged)
   for (std::size_t i = 0; i < n; ++i) {
     const auto row = body.family.neighbour.begin();
     const std::size_t end = body.family.offset[i + 1];
@@ -155,10 +157,12 @@ FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double
       failing[k] = 1;
       failing[FamilyScratch::bond_position(body, body.family.neighbour[k],
                                            static_cast<std::uint32_t>(i))] = 1;
-      ++failed;
+      failed += body.books(i);
+      ++flagged;
     }
   }
-  if (failed == 0) return result;
+  // (On a restriction a step may fail only bonds booked elsewhere: their flags still change.)
+  if (flagged == 0) return result;
   ends.assign(n, 0);
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i)
@@ -188,7 +192,8 @@ FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double
   std::size_t largest_family = 0;  // every worker's scratch sized once for any point
   for (std::size_t i = 0; i < n; ++i) {
     largest_family = std::max(largest_family, body.family.offset[i + 1] - body.family.offset[i]);
-    if (touched[i]) points.push_back(static_cast<std::uint32_t>(i));
+    // A restriction's halo points hold cut families: their shares are booked by their owners.
+    if (touched[i] && body.books(i)) points.push_back(static_cast<std::uint32_t>(i));
   }
   std::vector<double>& lost = w.lost;
   lost.assign(points.size(), 0.0);

@@ -107,13 +107,25 @@ void point_damage(const Body& body, std::vector<double>& damage) {
 double max_point_damage(const Body& body) {
   std::vector<double> d;
   point_damage(body, d);
-  return d.empty() ? 0.0 : *std::max_element(d.begin(), d.end());
+  double largest = 0;
+  for (std::size_t i = 0; i < d.size(); ++i)
+    if (body.books(i)) largest = std::max(largest, d[i]);
+  return largest;
 }
 
 std::size_t failed_bond_count(const Body& body) {
   std::size_t failed = 0;
-  for (auto b : body.bond_intact) failed += b == 0;
-  return failed / 2;
+  if (body.booked_points.empty()) {
+    for (auto b : body.bond_intact) failed += b == 0;
+    return failed / 2;
+  }
+  // A restriction: each bond at its lower end, whose family the restriction holds whole.
+  for (std::size_t i = 0; i < body.size(); ++i) {
+    if (!body.booked_points[i]) continue;
+    for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k)
+      failed += body.bond_intact[k] == 0 && body.family.neighbour[k] > i;
+  }
+  return failed;
 }
 
 }  // namespace ckpd

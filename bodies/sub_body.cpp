@@ -95,6 +95,7 @@ BodyRestriction restrict_body(const Body& body, const std::vector<std::uint32_t>
   s.force_density = gather(body.force_density, points);
   s.strain_energy_density = gather(body.strain_energy_density, points);
   s.owned_centres = gather(body.owned_centres, points);
+  s.booked_points = gather(body.booked_points, points);
 
   // The bonds among the kept points, in the whole body's order (rows stay sorted: the local
   // numbering is monotone), each with its flag.

@@ -33,7 +33,8 @@ struct BodyRestriction {
 // The body restricted to `points` (strictly increasing indices of `body`): per-point data and
 // state copied, the bonds among the kept points with their intact flags, the lattice stencil (if
 // any) with the kept points' coordinates, the bond-only table rebuilt for the kept bonds.
-// owned_centres is copied where the body has one (the caller usually sets it to the core).
+// owned_centres is copied where the body has one (the caller usually sets it to the core), and
+// so is booked_points (a rank sets it to its owned points: Body::booked_points).
 // Throws std::invalid_argument for indices out of order or range, and for a model with
 // per-point data of its own (ForceModelKernels::prepare: the state-based solid), whose restriction
 // is not defined here.

@@ -219,6 +219,59 @@ TEST_CASE("bond failure on a restriction breaks the bonds the whole body breaks"
   }
 }
 
+TEST_CASE("restrictions booking their own points add up to the whole body's books", "[sub_body]") {
+  // Body::booked_points: each part books the strain energy, the energy its failing bonds take
+  // and the failed bonds (at their lower ends) of its own points only, so the parts' figures sum
+  // to the whole body's: both damage rules, sets and bonds only, 1 and 2 threads.
+  ThreadCountGuard guard;
+  for (const DamageRule rule : {DamageRule::all_edges, DamageRule::centre_bonds})
+    for (const double nu : {0.3, 0.25})
+      for (const int threads : {1, 2}) {
+        INFO("rule " << static_cast<int>(rule) << ", nu " << nu << ", threads " << threads);
+        omp_set_num_threads(threads);
+        std::mt19937 rng(9);
+        const Scene s{"3D lattice", 3, nu, 0.0, 8, 6, 5};
+        // nu = 1/4: bonds only (no stencil tables to build)
+        Body body = make(s, {ForceForm::own_family, rule, nu != 0.25}, rng);
+        body.critical_stretch = 0.02;
+        ckpd::update_bond_failure(body);  // none yet: the pre-existing count below is zero
+        perturb(body, 0.03, rng);
+        std::uniform_real_distribution<double> speed(-1, 1);  // m/s: the booking's midpoint
+        for (Vec3& v : body.velocity) v = Vec3(speed(rng), speed(rng), speed(rng));
+        const std::vector<int> owner = owners(body, 3, true, rng);
+        std::vector<ckpd::BodyRestriction> parts;
+        for (int p = 0; p < 3; ++p) {
+          parts.push_back(part_restriction(body, owner, p));
+          ckpd::BodyRestriction& r = parts.back();
+          r.body.booked_points.assign(r.global.size(), 0);
+          for (std::size_t k = 0; k < r.global.size(); ++k)
+            r.body.booked_points[k] = owner[r.global[k]] == p;
+        }
+        const double half_drift = 1e-2;
+        const ckpd::FailureUpdate whole = ckpd::fail_overstretched_bonds(body, half_drift);
+        REQUIRE(whole.failed > 0);
+        ckpd::compute_internal_force_symmetric(body, true);
+        double dissipated = 0, strain = 0;
+        std::size_t failed = 0, counted = 0;
+        for (ckpd::BodyRestriction& r : parts) {
+          const ckpd::FailureUpdate mine = ckpd::fail_overstretched_bonds(r.body, half_drift);
+          failed += mine.failed;
+          dissipated += mine.dissipated;
+          counted += ckpd::failed_bond_count(r.body);
+          // The booked points' energy densities are their whole families' (a restriction keeps a
+          // booked point's family whole).
+          r.body.owned_centres.clear();
+          ckpd::compute_internal_force_symmetric(r.body, true);
+          strain += ckpd::strain_energy(r.body);
+        }
+        CHECK(failed == whole.failed);
+        CHECK(counted == ckpd::failed_bond_count(body));
+        CHECK(std::abs(dissipated - whole.dissipated) <= 1e-12 * std::abs(whole.dissipated));
+        const double total = ckpd::strain_energy(body);
+        CHECK(std::abs(strain - total) <= 1e-12 * total);
+      }
+}
+
 TEST_CASE("restrict_body rejects points out of order or range", "[sub_body]") {
   std::mt19937 rng(1);
   const Scene s{"2D lattice", 2, 0.4, 0.0, 6, 6, 1};

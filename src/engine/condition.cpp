@@ -1,8 +1,20 @@
 #include "src/engine/condition.hpp"
 
+#include <algorithm>
+
 #include "src/geometry/shape.hpp"
 
 namespace ckpd {
+
+void Condition::restrict_points(const std::vector<std::uint32_t>& kept) {
+  std::size_t local = 0;
+  for (const std::uint32_t p : points_) {
+    const auto at = std::lower_bound(kept.begin(), kept.end(), p);
+    if (at != kept.end() && *at == p)
+      points_[local++] = static_cast<std::uint32_t>(at - kept.begin());
+  }
+  points_.resize(local);
+}
 
 std::map<std::string, ConditionFactory>& condition_registry() {
   static std::map<std::string, ConditionFactory> registry;

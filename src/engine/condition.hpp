@@ -27,6 +27,10 @@ class Condition {
   virtual ~Condition() = default;
   // The points it acts on (selected once, in the reference configuration).
   const std::vector<std::uint32_t>& points() const { return points_; }
+  // For a rank holding the body restricted to some of its points (src/engine/distribution.hpp):
+  // `kept` are the restriction's indices in the whole body, increasing; the condition's points
+  // become the local indices of those it keeps, the others are dropped.
+  void restrict_points(const std::vector<std::uint32_t>& kept);
   // Once, before the first force evaluation.
   virtual void initialise(Body&) const {}
   // Adds its external force density at time t to body.external_force_density.

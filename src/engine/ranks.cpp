@@ -2,6 +2,8 @@
 
 #include <cstdlib>
 #include <iostream>
+#include <limits>
+#include <stdexcept>
 
 #ifdef CKPD_WITH_MPI
 #include <mpi.h>
@@ -96,9 +98,7 @@ void sum_in_rank_order([[maybe_unused]] std::vector<double>& data,
   const int n = count();
   if (n == 1) return;
   const std::size_t m = data.size();
-  gathered.resize(m * static_cast<std::size_t>(n));
-  MPI_Allgather(data.data(), static_cast<int>(m), MPI_DOUBLE, gathered.data(), static_cast<int>(m),
-                MPI_DOUBLE, MPI_COMM_WORLD);
+  all_gather(data, gathered);
   const std::size_t ranks = static_cast<std::size_t>(n);
 #pragma omp parallel for schedule(static)
   for (std::size_t k = 0; k < m; ++k) {
@@ -107,6 +107,45 @@ void sum_in_rank_order([[maybe_unused]] std::vector<double>& data,
     data[k] = s;
   }
 #endif
+}
+
+void all_gather(const std::vector<double>& data, std::vector<double>& gathered) {
+#ifdef CKPD_WITH_MPI
+  if (count() > 1) {
+    const int m = static_cast<int>(data.size());
+    gathered.resize(data.size() * static_cast<std::size_t>(count()));
+    MPI_Allgather(data.data(), m, MPI_DOUBLE, gathered.data(), m, MPI_DOUBLE, MPI_COMM_WORLD);
+    return;
+  }
+#endif
+  gathered = data;
+}
+
+void gather_to_root(const std::vector<unsigned char>& data, std::vector<unsigned char>& gathered) {
+#ifdef CKPD_WITH_MPI
+  if (count() > 1) {
+    const int n = count();
+    const int mine = static_cast<int>(data.size());
+    std::vector<int> sizes(root() ? static_cast<std::size_t>(n) : 0), at;
+    MPI_Gather(&mine, 1, MPI_INT, sizes.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+    gathered.clear();
+    if (root()) {
+      at.assign(sizes.size(), 0);
+      long long total = 0;
+      for (std::size_t r = 0; r < sizes.size(); ++r) {
+        at[r] = static_cast<int>(total);
+        total += sizes[r];
+      }
+      if (total > std::numeric_limits<int>::max())
+        throw std::runtime_error("gather to rank 0: more than 2 GB in one gather");
+      gathered.resize(static_cast<std::size_t>(total));
+    }
+    MPI_Gatherv(data.data(), mine, MPI_BYTE, gathered.data(), sizes.data(), at.data(), MPI_BYTE, 0,
+                MPI_COMM_WORLD);
+    return;
+  }
+#endif
+  gathered = data;
 }
 
 void exchange([[maybe_unused]] const std::vector<std::vector<double>>& send,

@@ -38,6 +38,14 @@ inline bool root() {
 // scratch (R x data.size()), kept by the caller so that a step allocates nothing.
 void sum_in_rank_order(std::vector<double>& data, std::vector<double>& gathered);
 
+// gathered <- every rank's data (the same length on all), rank after rank, on every rank. Without
+// MPI (or with one rank) a copy of data.
+void all_gather(const std::vector<double>& data, std::vector<double>& gathered);
+
+// On rank 0, gathered <- every rank's bytes (any length per rank), rank after rank; on the other
+// ranks gathered is left empty. Without MPI a copy of data. A collective.
+void gather_to_root(const std::vector<unsigned char>& data, std::vector<unsigned char>& gathered);
+
 // Point-to-point exchange (the halo's messages, halo_exchange.hpp): send[q] goes to rank q and
 // receive[q] is filled from rank q, for every q != this rank whose buffer is not empty; both
 // sides must agree on the sizes (the halo lists make them). Non-blocking sends and receives, all

@@ -14,6 +14,7 @@
 #include "bodies/state_based_model.hpp"
 #include "bodies/symmetric_kernel.hpp"
 #include "src/engine/contact_coupling.hpp"
+#include "src/engine/distribution.hpp"
 #include "src/engine/force_sharing.hpp"
 
 namespace ckpd {
@@ -68,6 +69,7 @@ double half_work_increment(const Body& b, double dt) {
     double w = 0;
 #pragma omp for schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
+      if (!b.books(i)) continue;  // a ghost: its owner books the work done on it
       const Vec3 f =
           b.density * b.acceleration[i] - (b.force_density[i] - b.external_force_density[i]);
       w += 0.5 * b.volume[i] * dt * f.dot(b.velocity[i]);
@@ -201,8 +203,14 @@ std::string contact_speed_note(const StepChoice& c) {
   return s.str();
 }
 
-Simulation::Simulation(Scene& scene) : scene_(scene) {
-  step_choice_ = choose_time_step(scene_);
+Simulation::Simulation(Scene& scene) : Simulation(scene, nullptr) {}
+
+Simulation::~Simulation() = default;
+
+Simulation::Simulation(Scene& scene, std::unique_ptr<Distribution> distribution)
+    : scene_(scene), distribution_(std::move(distribution)) {
+  // A distributed run's step is the whole scene's (its parts' stiffness bounds are their own).
+  step_choice_ = distribution_ ? distribution_->step_choice() : choose_time_step(scene_);
   if (scene_.time.steps >= 0) {
     planned_steps_ = scene_.time.steps;
   } else {
@@ -222,17 +230,23 @@ Simulation::Simulation(Scene& scene) : scene_(scene) {
       max_speed = std::max(max_speed, sb.rigid->max_speed(sb.body));
       continue;  // no lattice waves
     }
+    if (distribution_) continue;  // the whole bodies' waves: below
     // omega_max dx bounds the fastest wave a lattice carries.
     const double k =
         *std::max_element(sb.body.stiffness_bound.begin(), sb.body.stiffness_bound.end());
     max_speed = std::max(max_speed, sb.spacing * std::sqrt(k / sb.body.density));
   }
+  if (distribution_) max_speed = std::max(max_speed, distribution_->wave_speed());
   // No material point of a stable run moves at ten times the fastest wave or load speed. A
   // scene of rigid bodies at rest has neither (a block set down on a slope): no scale to judge
   // by, no limit.
   speed_limit_ = max_speed > 0 ? 10 * max_speed : std::numeric_limits<double>::infinity();
   contact_stiffness_ = contact_stiffness_bounds(scene_);
-  for (const SceneBody& sb : scene_.bodies) initially_failed_.push_back(failed_bond_count(sb.body));
+  for (const SceneBody& sb : scene_.bodies) {
+    failed_.push_back(failed_bond_count(sb.body));
+    initially_failed_.push_back(failed_.back());
+  }
+  if (distribution_) initially_failed_ = distribution_->initially_failed();
   contact_radius_.assign(scene_.bodies.size(), std::numeric_limits<double>::infinity());
   for (const ContactPairRadius& p : contact_pair_radii(scene_)) {
     contact_radius_[p.a] = std::min(contact_radius_[p.a], p.radius);
@@ -242,6 +256,7 @@ Simulation::Simulation(Scene& scene) : scene_(scene) {
   contact_ = make_contact_manager(scene_);
   taken_dt_ = step_choice_.dt;
   evaluate_forces(true);
+  if (distribution_) reduce_books(true);
   const Energies e = energies();
   initial_total_ = e.kinetic + e.strain + e.contact;
   if (adaptive()) plan_next_step(current_step());
@@ -251,6 +266,8 @@ void Simulation::evaluate_forces(bool with_energy) {
   strain_energy_ = with_energy ? 0.0 : strain_energy_;
   const auto start = std::chrono::steady_clock::now();
   const std::size_t bodies = scene_.bodies.size();
+  // The ghosts at the new positions (and their drift velocities, for the damage booking).
+  if (distribution_) distribution_->exchange_state(scene_);
   std::vector<double>& dissipated = step_dissipated_;
   std::vector<double>& strain = step_strain_;
   dissipated.assign(bodies, 0.0);
@@ -286,6 +303,7 @@ void Simulation::evaluate_forces(bool with_energy) {
           fail_bonds_and_compute_internal_force(b, with_energy, 0.5 * step_size(step_), failure);
     }
     dissipated[index] = failure.dissipated;
+    failed_[index] += failure.failed;
     if (with_energy) inverted_[index] = stats.inverted_tetrahedra + stats.inverted_triangles;
     // A body whose force work is shared over ranks has this rank's part only: it is completed
     // after the sum over ranks below.
@@ -312,7 +330,10 @@ void Simulation::evaluate_forces(bool with_energy) {
 #pragma omp parallel for schedule(static, 1) if (small.size() > 1)
   for (std::size_t k = 0; k < small.size(); ++k) own_forces(small[k]);
   for (std::size_t k : large) own_forces(k);
-  if (shared_force_values(scene_, with_energy) > 0) {
+  if (distribution_) {
+    distribution_->sum_forces(scene_, with_energy);
+    for (std::size_t k = 0; k < bodies; ++k) add_loads_and_energy(k);
+  } else if (shared_force_values(scene_, with_energy) > 0) {
     sum_shared_forces(scene_, with_energy, inverted_, sharing_);
     for (std::size_t k = 0; k < bodies; ++k)
       if (shares_force_work(scene_.bodies[k].body)) add_loads_and_energy(k);
@@ -322,7 +343,7 @@ void Simulation::evaluate_forces(bool with_energy) {
     dissipated_ += dissipated[k];
     if (with_energy) strain_energy_ += strain[k];
   }
-  if (with_energy) {
+  if (with_energy && !distribution_) {  // distributed: after the sum over ranks (reduce_books)
     max_inverted_ = std::max(max_inverted_, inverted());
     for (std::size_t k = 0; k < bodies && first_inversion_.step < 0; ++k)
       if (inverted_[k] > 0)
@@ -397,6 +418,22 @@ void Simulation::clip_next_step() {
   }
 }
 
+void Simulation::report_instability(std::size_t index, double worst, std::size_t worst_point,
+                                    const Vec3& reference, bool finite, double dt) {
+  const Body& b = scene_.bodies[index].body;
+  std::ostringstream msg;
+  msg << "instability at step " << step_ << ", t = " << time_ << " s: body '" << b.name
+      << "', point " << worst_point << " at reference " << format_position(reference, b.dimension)
+      << " ";
+  if (!finite)
+    msg << "has a non-finite velocity or displacement";
+  else
+    msg << "moves at " << std::sqrt(worst) << " m/s, over the guard's limit of " << speed_limit_
+        << " m/s (ten times the fastest wave or load speed)";
+  msg << "; dt = " << dt << " s is " << step_choice_.safety << " x the stable-step estimate";
+  throw InstabilityError(msg.str());
+}
+
 void Simulation::advance(bool with_energy) {
   const double dt = step_size(step_ + 1);
   // Kick to t + dt/2, prescribed velocities at the midpoint (exact for a linear ramp), drift.
@@ -444,6 +481,8 @@ void Simulation::advance(bool with_energy) {
 #pragma omp for schedule(static) nowait
       for (std::size_t i = 0; i < n; ++i) {
         if (kick) b.velocity[i] += 0.5 * dt * b.acceleration[i];
+        // A ghost's velocity is its owner's, sent with the next step's state: the owner judges.
+        if (!b.books(i)) continue;
         const double s2 = b.velocity[i].squaredNorm();
         if (!std::isfinite(s2) || !b.displacement[i].allFinite()) {
           my_finite = false;
@@ -466,19 +505,19 @@ void Simulation::advance(bool with_energy) {
       }
     }
     apply_prescribed_motion(sb, time_, true, false);
-    if (!finite || std::sqrt(worst) > speed_limit_) {
-      std::ostringstream msg;
-      msg << "instability at step " << step_ << ", t = " << time_ << " s: body '" << b.name
-          << "', point " << worst_point << " at reference "
-          << format_position(b.reference_position[worst_point], b.dimension) << " ";
-      if (!finite)
-        msg << "has a non-finite velocity or displacement";
-      else
-        msg << "moves at " << std::sqrt(worst) << " m/s, over the guard's limit of " << speed_limit_
-            << " m/s (ten times the fastest wave or load speed)";
-      msg << "; dt = " << dt << " s is " << step_choice_.safety << " x the stable-step estimate";
-      throw InstabilityError(msg.str());
+    Vec3 reference = n > 0 ? b.reference_position[worst_point] : Vec3::Zero();
+    if (distribution_) {
+      // Every rank's fastest point of this body, the same choice on every rank; the point named
+      // by its index in the whole body.
+      const double key = n == 0 ? -1 : finite ? worst : std::numeric_limits<double>::infinity();
+      const Distribution::Choice c = distribution_->choose(scene_, key, index, worst_point);
+      finite = !(c.key == std::numeric_limits<double>::infinity());
+      worst = std::max(c.key, 0.0);
+      worst_point = c.point;
+      reference = c.reference;
     }
+    if (!finite || std::sqrt(worst) > speed_limit_)
+      report_instability(index, worst, worst_point, reference, finite, dt);
     // Tunnelling: the fastest point covers |v| dt per step (the end-of-step speed, which the
     // next drift uses, found in the loop above at no extra cost).
     const double reach = std::sqrt(worst) * dt;
@@ -514,13 +553,33 @@ void Simulation::advance(bool with_energy) {
     }
     plan_next_step(now);
   }
+  if (distribution_) reduce_books(with_energy);
   if (with_energy) check_energy();
 }
 
-namespace {
+void Simulation::reduce_books(bool with_energy) {
+  const std::size_t bodies = scene_.bodies.size();
+  std::vector<double>& v = book_values_;
+  v.assign({external_work_, dissipated_, strain_energy_, kinetic_energy()});
+  for (std::size_t k = 0; k < bodies; ++k) v.push_back(static_cast<double>(failed_[k]));
+  for (std::size_t k = 0; k < bodies; ++k) v.push_back(static_cast<double>(inverted_[k]));
+  distribution_->sum(v);  // the counts are integers below 2^53: summed exactly
+  books_.external_work = v[0];
+  books_.dissipated = v[1];
+  books_.kinetic = v[3];
+  books_.failed.resize(bodies);
+  for (std::size_t k = 0; k < bodies; ++k) books_.failed[k] = static_cast<std::size_t>(v[4 + k]);
+  if (!with_energy) return;
+  books_.strain = v[2];
+  books_.inverted.resize(bodies);
+  for (std::size_t k = 0; k < bodies; ++k)
+    books_.inverted[k] = static_cast<std::uint64_t>(v[4 + bodies + k]);
+  max_inverted_ = std::max(max_inverted_, inverted());
+  for (std::size_t k = 0; k < bodies && first_inversion_.step < 0; ++k)
+    if (books_.inverted[k] > 0)
+      first_inversion_ = {step_, time_, scene_.bodies[k].body.name, books_.inverted[k]};
+}
 
-// Whether a body's strain measure stiffens in compression (Seth-Hill m <= 0): its stable step is
-// re-estimated at the current state during the run (THEORY.md section 6).
 bool stiffens_in_compression(const Body& b) {
   if (b.model == &state_based_kernels()) return b.state_based.m <= 0;
   // Either CKPD force form: the bond's and the sets' stiffening are the same in both.
@@ -528,6 +587,8 @@ bool stiffens_in_compression(const Body& b) {
           b.model == &ckpd_seth_hill_conservative_kernels()) &&
          b.strain_measure <= 0;
 }
+
+namespace {
 
 double measure_of(const Body& b) {
   return b.model == &state_based_kernels() ? b.state_based.m : b.strain_measure;
@@ -632,25 +693,35 @@ void Simulation::check_energy() const {
     const Body* where_body = nullptr;
     std::size_t where_point = 0;
     double largest = -1;
-    for (const SceneBody& sb : scene_.bodies) {
-      const Body& b = sb.body;
+    std::size_t where_index = 0;
+    for (std::size_t k = 0; k < scene_.bodies.size(); ++k) {
+      const Body& b = scene_.bodies[k].body;
       for (std::size_t i = 0; i < b.size(); ++i) {
+        if (!b.books(i)) continue;  // a ghost's strain energy density is a partial
         const double density =
             0.5 * b.density * b.velocity[i].squaredNorm() + b.strain_energy_density[i];
         if (density > largest) {
           largest = density;
           where_body = &b;
+          where_index = k;
           where_point = i;
         }
       }
+    }
+    Vec3 reference = where_body ? where_body->reference_position[where_point] : Vec3::Zero();
+    if (distribution_) {
+      const Distribution::Choice c =
+          distribution_->choose(scene_, largest, where_index, where_point);
+      where_body = &scene_.bodies[c.body].body;
+      where_point = c.point;
+      reference = c.reference;
     }
     std::ostringstream msg;
     msg << "instability at step " << step_ << ", t = " << time_
         << " s: kinetic + strain + contact energy " << now
         << " J is more than ten times the energy put in (" << supplied
         << " J), most of it at body '" << where_body->name << "', point " << where_point
-        << " at reference "
-        << format_position(where_body->reference_position[where_point], where_body->dimension)
+        << " at reference " << format_position(reference, where_body->dimension)
         << "; dt = " << step_choice_.dt << " s is " << step_choice_.safety
         << " x the stable-step estimate";
     throw InstabilityError(msg.str());
@@ -658,8 +729,9 @@ void Simulation::check_energy() const {
 }
 
 Simulation::Counters Simulation::counters() const {
-  Counters c{time_,          step_,          external_work_,   dissipated_,
-             strain_energy_, initial_total_, initially_failed_};
+  const Energies e = energies();  // a distributed run's: the sums over ranks
+  Counters c{time_,    step_,          e.external_work,  e.dissipated,
+             e.strain, initial_total_, initially_failed_};
   c.next_dt = next_choice_;
   c.smallest_step = smallest_step_;
   c.reduced_steps = reduced_steps_;
@@ -699,6 +771,14 @@ void Simulation::restore(const Counters& c) {
   strain_energy_ = c.strain_energy;
   initial_total_ = c.initial_total;
   initially_failed_ = c.initially_failed;
+  if (distribution_) {
+    // The sums over ranks start from rank 0's share; the bodies' flags are restored already.
+    if (distribution_->rank() != 0) external_work_ = dissipated_ = strain_energy_ = 0;
+    for (std::size_t k = 0; k < scene_.bodies.size(); ++k)
+      failed_[k] = failed_bond_count(scene_.bodies[k].body);
+    reduce_books(false);
+    books_.strain = c.strain_energy;
+  }
 }
 
 void Simulation::refresh_strain_energy() {
@@ -719,7 +799,10 @@ void Simulation::refresh_strain_energy() {
     inverted_[k] = stats.inverted_tetrahedra + stats.inverted_triangles;
   }
   // Bodies whose force work is shared over ranks: the energies and counts summed over ranks.
-  sum_shared_forces(scene_, true, inverted_, sharing_);
+  if (distribution_)
+    distribution_->sum_forces(scene_, true);
+  else
+    sum_shared_forces(scene_, true, inverted_, sharing_);
   for (std::size_t k = 0; k < bodies; ++k) {
     SceneBody& sb = scene_.bodies[k];
     if (sb.rigid) continue;
@@ -728,20 +811,29 @@ void Simulation::refresh_strain_energy() {
   }
   strain_energy_ = 0;
   for (std::size_t k = 0; k < bodies; ++k) strain_energy_ += strain[k];  // body order
-  max_inverted_ = std::max(max_inverted_, inverted());
+  if (distribution_)
+    reduce_books(true);
+  else
+    max_inverted_ = std::max(max_inverted_, inverted());
+}
+
+double Simulation::kinetic_energy() const {
+  double kinetic = 0;
+  for (const SceneBody& sb : scene_.bodies) {
+    const Body& b = sb.body;
+    for (std::size_t i = 0; i < b.size(); ++i)
+      if (b.books(i)) kinetic += 0.5 * b.density * b.volume[i] * b.velocity[i].squaredNorm();
+  }
+  return kinetic;
 }
 
 Energies Simulation::energies() const {
   Energies e;
-  for (const SceneBody& sb : scene_.bodies) {
-    const Body& b = sb.body;
-    for (std::size_t i = 0; i < b.size(); ++i)
-      e.kinetic += 0.5 * b.density * b.volume[i] * b.velocity[i].squaredNorm();
-  }
-  e.strain = strain_energy_;
+  e.kinetic = distribution_ ? books_.kinetic : kinetic_energy();
+  e.strain = distribution_ ? books_.strain : strain_energy_;
   e.contact = contact_ ? contact_->energy() : 0.0;
-  e.external_work = external_work_;
-  e.dissipated = dissipated_;
+  e.external_work = distribution_ ? books_.external_work : external_work_;
+  e.dissipated = distribution_ ? books_.dissipated : dissipated_;
   if (contact_) {
     e.contact_damping = contact_->damping_dissipated();
     e.contact_friction = contact_->friction_dissipated();
@@ -752,6 +844,7 @@ Energies Simulation::energies() const {
 }
 
 std::size_t Simulation::broken_bonds(std::size_t body) const {
+  if (distribution_) return books_.failed[body] - initially_failed_[body];
   return failed_bond_count(scene_.bodies[body].body) - initially_failed_[body];
 }
 
@@ -763,7 +856,7 @@ std::size_t Simulation::broken_bonds() const {
 
 std::uint64_t Simulation::inverted() const {
   std::uint64_t total = 0;
-  for (std::uint64_t n : inverted_) total += n;
+  for (std::uint64_t n : distribution_ ? books_.inverted : inverted_) total += n;
   return total;
 }
 
@@ -787,7 +880,7 @@ double Simulation::max_damage() const {
   double d = 0;
   for (const SceneBody& sb : scene_.bodies)
     if (sb.body.damage_enabled) d = std::max(d, max_point_damage(sb.body));
-  return d;
+  return distribution_ ? distribution_->max(d) : d;
 }
 
 }  // namespace ckpd

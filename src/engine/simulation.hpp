@@ -95,9 +95,25 @@ struct InversionRecord {
   std::uint64_t count = 0;  // that body's inverted sets then
 };
 
+// Whether a body's strain measure stiffens in compression (Seth-Hill m <= 0): its stable step is
+// re-estimated at the current state during the run (THEORY.md section 6).
+bool stiffens_in_compression(const Body& b);
+
+class Distribution;
+
 class Simulation {
  public:
   explicit Simulation(Scene& scene);
+  // A distributed run (distribution.hpp): `local` is this rank's part of the scene
+  // (distribute_scene). Every rank constructs and advances its Simulation in step; the energies,
+  // counts and guards are over all ranks (summed in rank order: the same on every rank), and
+  // max_damage is a collective.
+  Simulation(Scene& local, std::unique_ptr<Distribution> distribution);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+  // Null for a run in one process or on the replicated scheme.
+  Distribution* distribution() const { return distribution_.get(); }
 
   // One step. With `with_energy`, the strain energy is evaluated at the new time (and the
   // energy guard runs). Throws InstabilityError when the guard trips.
@@ -175,6 +191,14 @@ class Simulation {
 
  private:
   void evaluate_forces(bool with_energy);
+  // A distributed run: the ranks' energies and counts summed into books_ (a collective, at the
+  // same point on every rank; the strain energy and inverted sets only after an evaluation with
+  // energy).
+  void reduce_books(bool with_energy);
+  // The guard's message for the point of body `index` that moves fastest (largest squared speed
+  // `worst`, or not finite), as every rank sees it in a distributed run.
+  [[noreturn]] void report_instability(std::size_t index, double worst, std::size_t point,
+                                       const Vec3& reference, bool finite, double dt);
   void check_energy() const;
   // For bodies whose strain measure stiffens in compression (m <= 0): the stable step at the
   // current state against dt, after every force evaluation (throws InstabilityError when dt
@@ -232,6 +256,18 @@ class Simulation {
   std::vector<PointSet> point_sets_;
   // The sum over ranks of the bodies whose force work is shared (force_sharing.hpp).
   ForceSharingBuffers sharing_;
+  // A distributed run (distribution.hpp): external_work_, dissipated_, strain_energy_ and
+  // inverted_ hold this rank's shares; books_ the sums over ranks. failed_: per body, the failed
+  // bonds this rank books (at their lower ends).
+  std::unique_ptr<Distribution> distribution_;
+  struct Books {
+    double external_work = 0, dissipated = 0, strain = 0, kinetic = 0;
+    std::vector<std::uint64_t> inverted;
+    std::vector<std::size_t> failed;
+  } books_;
+  std::vector<std::size_t> failed_;
+  std::vector<double> book_values_;
+  double kinetic_energy() const;  // this process's points (a distributed run: its owned ones)
 };
 
 }  // namespace ckpd

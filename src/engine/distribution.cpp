@@ -1,0 +1,200 @@
+#include "src/engine/distribution.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "bodies/damage.hpp"
+#include "bodies/state_based_model.hpp"
+#include "bodies/sub_body.hpp"
+#include "src/engine/ranks.hpp"
+
+namespace ckpd {
+
+namespace {
+
+// Per owned point in a gather: displacement, velocity, acceleration, force density (3 each) and
+// the strain energy density; then the point's bond flags, one byte each.
+constexpr std::size_t kGatheredValues = 13;
+
+void put(std::vector<unsigned char>& bytes, const double* values, std::size_t count) {
+  const std::size_t at = bytes.size();
+  bytes.resize(at + count * sizeof(double));
+  std::memcpy(bytes.data() + at, values, count * sizeof(double));
+}
+
+}  // namespace
+
+std::string distribution_refusal(const Scene& scene) {
+  if (scene.contact.present) return "the scene has contact";
+  if (scene.time.adaptive_step) return "time.step_mode is adaptive";
+  for (const SceneBody& sb : scene.bodies) {
+    const std::string who = "body '" + sb.body.name + "' ";
+    if (sb.rigid || sb.wall) return who + "is rigid";
+    if (sb.far_field) return who + "has a far field";
+    if (sb.body.model == &state_based_kernels()) return who + "is a state-based solid";
+    if (stiffens_in_compression(sb.body))
+      return who + "has a strain measure that stiffens in compression (m <= 0)";
+  }
+  return {};
+}
+
+DistributedScene distribute_scene(Scene& whole, int rank, int ranks) {
+  const std::string refusal = distribution_refusal(whole);
+  if (!refusal.empty())
+    throw std::invalid_argument("distributed memory does not take this scene: " + refusal);
+  DistributedScene out;
+  out.distribution = std::make_unique<Distribution>();
+  Distribution& d = *out.distribution;
+  d.rank_ = rank;
+  d.ranks_ = ranks;
+  d.step_choice_ = choose_time_step(whole);
+  std::vector<const Body*> bodies;
+  for (const SceneBody& sb : whole.bodies) bodies.push_back(&sb.body);
+  d.decomposition_ = decompose(bodies, std::vector<bool>(bodies.size(), false), ranks);
+  Scene& local = out.local;
+  local.case_file = whole.case_file;
+  local.fingerprint = whole.fingerprint;
+  local.physics = whole.physics;
+  local.contact = whole.contact;
+  local.time = whole.time;
+  local.output = whole.output;
+  for (std::size_t b = 0; b < whole.bodies.size(); ++b) {
+    SceneBody& w = whole.bodies[b];
+    DistributedBody db;
+    db.whole_points = w.body.size();
+    db.links = halo_links(w.body, d.decomposition_.owner[b], rank, ranks);
+    if (rank == 0) db.owner = d.decomposition_.owner[b];
+    // omega_max dx bounds the fastest wave a lattice carries (Simulation's speed limit).
+    const double k =
+        *std::max_element(w.body.stiffness_bound.begin(), w.body.stiffness_bound.end());
+    d.wave_speed_ = std::max(d.wave_speed_, w.spacing * std::sqrt(k / w.body.density));
+    d.initially_failed_.push_back(failed_bond_count(w.body));
+    SceneBody l;
+    l.body = restrict_body(w.body, db.links.points).body;
+    l.body.owned_centres = db.links.owned;
+    l.body.booked_points = db.links.owned;
+    l.spacing = w.spacing;
+    l.mesh = w.mesh;
+    l.elastic = w.elastic;
+    for (std::unique_ptr<Condition>& c : w.conditions) {
+      c->restrict_points(db.links.points);
+      l.conditions.push_back(std::move(c));
+    }
+    w.conditions.clear();
+    local.bodies.push_back(std::move(l));
+    d.bodies_.push_back(std::move(db));
+  }
+  return out;
+}
+
+void Distribution::exchange_state(Scene& local) {
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    DistributedBody& db = bodies_[b];
+    Body& body = local.bodies[b].body;
+    pack_state(db.links, body, db.buffers);
+    ranks::exchange(db.buffers.send, db.buffers.receive);
+    unpack_state(db.links, db.buffers, body);
+  }
+}
+
+void Distribution::sum_forces(Scene& local, bool with_energy) {
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    DistributedBody& db = bodies_[b];
+    Body& body = local.bodies[b].body;
+    pack_ghost_forces(db.links, body, with_energy, db.buffers);
+    ranks::exchange(db.buffers.send, db.buffers.receive);
+    add_owner_forces(db.links, rank_, db.buffers, with_energy, body);
+  }
+}
+
+void Distribution::sum(std::vector<double>& values) {
+  ranks::sum_in_rank_order(values, scratch_);
+}
+
+double Distribution::max(double value) {
+  const std::vector<double> mine{value};
+  ranks::all_gather(mine, scratch_);
+  return *std::max_element(scratch_.begin(), scratch_.end());
+}
+
+Distribution::Choice Distribution::choose(const Scene& local, double key, std::size_t body,
+                                          std::size_t local_point) {
+  std::vector<double> mine(6, 0.0);
+  mine[0] = key;
+  if (key >= 0) {
+    const Body& b = local.bodies[body].body;
+    const Vec3 x = b.reference_position[local_point];
+    mine = {key,
+            static_cast<double>(body),
+            static_cast<double>(bodies_[body].links.points[local_point]),
+            x.x(),
+            x.y(),
+            x.z()};
+  }
+  ranks::all_gather(mine, scratch_);
+  Choice best;
+  for (std::size_t r = 0; r * 6 < scratch_.size(); ++r) {
+    const double* c = &scratch_[r * 6];
+    if (c[0] < 0) continue;
+    const auto cb = static_cast<std::size_t>(c[1]), cp = static_cast<std::size_t>(c[2]);
+    const bool better =
+        c[0] > best.key ||
+        (c[0] == best.key && (cb < best.body || (cb == best.body && cp < best.point)));
+    if (!better) continue;
+    best.key = c[0];
+    best.body = cb;
+    best.point = cp;
+    best.reference = Vec3(c[3], c[4], c[5]);
+  }
+  return best;
+}
+
+void Distribution::gather(const Scene& local, Scene& whole) {
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    const DistributedBody& db = bodies_[b];
+    const Body& part = local.bodies[b].body;
+    bytes_.clear();
+    for (std::size_t l = 0; l < part.size(); ++l) {
+      if (!db.links.owned[l]) continue;
+      const double values[kGatheredValues] = {
+          part.displacement[l].x(),     part.displacement[l].y(),  part.displacement[l].z(),
+          part.velocity[l].x(),         part.velocity[l].y(),      part.velocity[l].z(),
+          part.acceleration[l].x(),     part.acceleration[l].y(),  part.acceleration[l].z(),
+          part.force_density[l].x(),    part.force_density[l].y(), part.force_density[l].z(),
+          part.strain_energy_density[l]};
+      put(bytes_, values, kGatheredValues);
+      // An owned point's family is whole in the restriction, in the whole body's order.
+      const std::size_t begin = part.family.offset[l], end = part.family.offset[l + 1];
+      bytes_.insert(bytes_.end(), part.bond_intact.begin() + static_cast<std::ptrdiff_t>(begin),
+                    part.bond_intact.begin() + static_cast<std::ptrdiff_t>(end));
+    }
+    ranks::gather_to_root(bytes_, gathered_bytes_);
+    if (rank_ != 0) continue;
+    Body& w = whole.bodies[b].body;
+    std::size_t at = 0;
+    for (int r = 0; r < ranks_; ++r)
+      for (std::size_t g = 0; g < w.size(); ++g) {
+        if (db.owner[g] != r) continue;
+        double v[kGatheredValues];
+        std::memcpy(v, gathered_bytes_.data() + at, sizeof v);
+        at += sizeof v;
+        w.displacement[g] = Vec3(v[0], v[1], v[2]);
+        w.velocity[g] = Vec3(v[3], v[4], v[5]);
+        w.acceleration[g] = Vec3(v[6], v[7], v[8]);
+        w.force_density[g] = Vec3(v[9], v[10], v[11]);
+        w.strain_energy_density[g] = v[12];
+        const std::size_t begin = w.family.offset[g], end = w.family.offset[g + 1];
+        std::copy(gathered_bytes_.begin() + static_cast<std::ptrdiff_t>(at),
+                  gathered_bytes_.begin() + static_cast<std::ptrdiff_t>(at + end - begin),
+                  w.bond_intact.begin() + static_cast<std::ptrdiff_t>(begin));
+        at += end - begin;
+      }
+    if (at != gathered_bytes_.size())
+      throw std::logic_error("distributed gather: the ranks' parts do not make up body '" + w.name +
+                             "'");
+  }
+}
+
+}  // namespace ckpd
