@@ -93,23 +93,27 @@ FailureUpdate fail_overstretched_bonds(Body& body, double half_drift) {
   return force_model(body).fail_and_book(body, half_drift);
 }
 
-void point_damage(const Body& body, std::vector<double>& damage) {
-  damage.resize(body.size());
-  for (std::size_t i = 0; i < body.size(); ++i) {
-    const std::size_t begin = body.family.offset[i], end = body.family.offset[i + 1];
-    std::size_t intact = 0;
-    for (std::size_t k = begin; k < end; ++k) intact += body.bond_intact[k];
-    damage[i] =
-        end > begin ? 1.0 - static_cast<double>(intact) / static_cast<double>(end - begin) : 0.0;
-  }
+namespace {
+
+double damage_of_point(const Body& body, std::size_t i) {
+  const std::size_t begin = body.family.offset[i], end = body.family.offset[i + 1];
+  std::size_t intact = 0;
+  for (std::size_t k = begin; k < end; ++k) intact += body.bond_intact[k];
+  return end > begin ? 1.0 - static_cast<double>(intact) / static_cast<double>(end - begin) : 0.0;
 }
 
+}  // namespace
+
+void point_damage(const Body& body, std::vector<double>& damage) {
+  damage.resize(body.size());
+  for (std::size_t i = 0; i < body.size(); ++i) damage[i] = damage_of_point(body, i);
+}
+
+// No buffer: a distributed run books it every step.
 double max_point_damage(const Body& body) {
-  std::vector<double> d;
-  point_damage(body, d);
   double largest = 0;
-  for (std::size_t i = 0; i < d.size(); ++i)
-    if (body.books(i)) largest = std::max(largest, d[i]);
+  for (std::size_t i = 0; i < body.size(); ++i)
+    if (body.books(i)) largest = std::max(largest, damage_of_point(body, i));
   return largest;
 }
 

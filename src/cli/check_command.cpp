@@ -14,6 +14,8 @@
 #include "src/cli/setup_interrupt.hpp"
 #include "src/engine/contact_coupling.hpp"
 #include "src/engine/decomposition.hpp"
+#include "src/engine/distribution.hpp"
+#include "src/engine/force_sharing.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/geometry/work_estimate.hpp"
 #include "src/output/kernel_report.hpp"
@@ -69,7 +71,8 @@ void print_mesh(const MeshInfo& m, const Body& b) {
   std::cout << ", " << b.size() << " points\n";
 }
 
-// What a run on `ranks` MPI ranks would hold per rank (src/engine/decomposition.hpp).
+// What a run on `ranks` MPI ranks would hold per rank (src/engine/decomposition.hpp), and what
+// the scheme it would run on exchanges per step (distribution.hpp or force_sharing.hpp).
 void print_decomposition(const Scene& scene, int ranks) {
   std::vector<const Body*> bodies;
   std::vector<bool> rigid;
@@ -79,22 +82,38 @@ void print_decomposition(const Scene& scene, int ranks) {
   }
   const Decomposition d = decompose(bodies, rigid, ranks);
   double total = 0;
-  std::uint64_t ghosts = 0, bytes = 0;
+  std::uint64_t ghosts = 0;
   for (const RankShare& r : d.share) {
     total += r.work;
     ghosts += r.ghosts;
-    bytes += r.bytes_per_step();
   }
+  const std::string refusal = distribution_refusal(scene);
   std::cout << "decomposition over " << ranks
             << " ranks (recursive coordinate bisection by interaction work): imbalance "
             << d.imbalance() << " (largest rank's work over the mean), " << ghosts
-            << " halo points, " << format_bytes(bytes) << " exchanged per step in all\n";
+            << " halo points\n";
+  if (refusal.empty()) {
+    std::cout << "  distributed memory: each rank holds its points and their halo; per step "
+              << format_bytes(halo_bytes_per_step(ghosts)) << " of halo messages in all ("
+              << format_bytes(halo_bytes_per_step(ghosts, true)) << " in a step with energy)\n";
+  } else {
+    std::size_t sent = 0;
+    for (const SceneBody& sb : scene.bodies)
+      if (force_work_can_be_shared(sb))
+        sent += shared_force_values(sb.body, false) * sizeof(double);
+    std::cout << "  replicated state (distributed memory does not take this scene: " << refusal
+              << "): every rank holds the whole scene and sends its whole partial force buffer, "
+              << format_bytes(sent) << ", to every other rank per step\n";
+  }
   for (std::size_t r = 0; r < d.share.size(); ++r) {
     const RankShare& s = d.share[r];
     std::cout << "  rank " << r << ": " << s.points << " points, " << std::fixed
               << std::setprecision(1) << 100 * s.work / total << std::defaultfloat
-              << std::setprecision(6) << " % of the work, " << s.ghosts << " halo points, "
-              << format_bytes(s.bytes_per_step()) << " per step\n";
+              << std::setprecision(6) << " % of the work, " << s.ghosts << " halo points";
+    if (refusal.empty())
+      std::cout << ", " << format_bytes(halo_bytes_per_step(s.ghosts))
+                << " received and sent back per step";
+    std::cout << '\n';
   }
 }
 

@@ -18,9 +18,11 @@
 #include "src/cli/launch_guard.hpp"
 #include "src/cli/setup_interrupt.hpp"
 #include "src/engine/contact_coupling.hpp"
+#include "src/engine/distribution.hpp"
 #include "src/engine/force_sharing.hpp"
 #include "src/engine/ranks.hpp"
 #include "src/engine/simulation.hpp"
+#include "src/geometry/work_estimate.hpp"
 #include "src/output/beta_report.hpp"
 #include "src/output/checkpoint.hpp"
 #include "src/output/kernel_report.hpp"
@@ -58,7 +60,7 @@ void print_rigid_setup(const SceneBody& sb, std::ostream& os) {
 }
 
 void print_setup(const Simulation& sim, std::ostream& os) {
-  for (const SceneBody& sb : sim.scene().bodies) {
+  for (const SceneBody& sb : sim.whole_scene().bodies) {
     const Body& b = sb.body;
     if (sb.rigid) {
       print_rigid_setup(sb, os);
@@ -85,7 +87,7 @@ void print_setup(const Simulation& sim, std::ostream& os) {
     os << " (the last one " << last << " s: the run ends exactly at time.end)";
   os << '\n';
   if (std::isfinite(s.speed_step)) os << "  " << contact_speed_note(s) << '\n';
-  os << contact_law_report(sim.scene());
+  os << contact_law_report(sim.whole_scene());
 }
 
 // What summary.json records of how the run was made: the command line, the overrides, the
@@ -127,14 +129,16 @@ void choose_rank_threads() {
   omp_set_num_threads(static_cast<int>(std::max(1LL, omp_get_num_procs() / local)));
 }
 
-// summary.json's account of the ranks (replicated state, shared force work).
-nlohmann::ordered_json decomposition_json(const Scene& scene, const Decomposition& d) {
+// summary.json's account of the ranks: how the points were shared, and what the scheme holds and
+// exchanges (`refusal`: why the scene runs on replicated state; empty: distributed memory).
+nlohmann::ordered_json decomposition_json(const Scene& scene, const Decomposition& d,
+                                          const std::string& refusal) {
   nlohmann::ordered_json per_rank = nlohmann::ordered_json::array();
   double total = 0;
-  std::uint64_t halo_bytes = 0;
+  std::uint64_t ghosts = 0;
   for (const RankShare& s : d.share) {
     total += s.work;
-    halo_bytes += s.bytes_per_step();
+    ghosts += s.ghosts;
   }
   for (std::size_t r = 0; r < d.share.size(); ++r) {
     const RankShare& s = d.share[r];
@@ -142,25 +146,42 @@ nlohmann::ordered_json decomposition_json(const Scene& scene, const Decompositio
                         {"points", s.points},
                         {"work_share", total > 0 ? s.work / total : 0.0},
                         {"halo_points", s.ghosts},
-                        {"halo_bytes_per_step", s.bytes_per_step()}});
+                        {"halo_bytes_per_step", halo_bytes_per_step(s.ghosts)}});
+  }
+  nlohmann::ordered_json j{
+      {"method", "recursive coordinate bisection of the deformable points by interaction work"}};
+  if (refusal.empty()) {
+    j["state"] =
+        "distributed: each rank holds the points it owns and their halo (the members of its "
+        "points' families that other ranks own) and evaluates the sets centred at its points";
+    j["exchange"] =
+        "every step the owners send their ghosts' displacements and velocities (6 doubles a "
+        "ghost) and the ranks send the forces their sets put on ghosts back to the owners (3 "
+        "doubles a ghost, 4 in a step with energy), which add them in rank order";
+    j["imbalance"] = d.imbalance();
+    j["per_rank"] = per_rank;
+    j["halo_points_all_ranks"] = ghosts;
+    j["halo_bytes_per_step_all_ranks"] = halo_bytes_per_step(ghosts);
+    j["halo_bytes_per_energy_step_all_ranks"] = halo_bytes_per_step(ghosts, true);
+    return j;
   }
   const std::size_t sent = shared_force_values(scene, false) * sizeof(double);
   const std::size_t sent_energy = shared_force_values(scene, true) * sizeof(double);
   const std::size_t others = d.share.size() - 1;
-  return {{"method", "recursive coordinate bisection of the deformable points by interaction work"},
-          {"state",
-           "replicated: every rank holds and integrates the whole scene; each rank "
-           "evaluates the sets centred at its own points"},
-          {"exchange",
-           "every step each rank sends its whole partial force buffer (3 doubles "
-           "per point of each deformable body; with energy 1 more per point) to "
-           "every other rank (MPI_Allgather), and the buffers are added in rank order"},
-          {"imbalance", d.imbalance()},
-          {"per_rank", per_rank},
-          {"sent_bytes_per_rank_per_step", sent},
-          {"sent_bytes_per_rank_energy_step", sent_energy},
-          {"received_bytes_per_rank_per_step", sent * others},
-          {"halo_bytes_per_step_all_ranks", halo_bytes}};
+  j["state"] =
+      "replicated: every rank holds and integrates the whole scene; each rank evaluates the sets "
+      "centred at its own points (distributed memory does not take this scene: " +
+      refusal + ")";
+  j["exchange"] =
+      "every step each rank sends its whole partial force buffer (3 doubles per point of each "
+      "deformable body; with energy 1 more per point) to every other rank (MPI_Allgather), and "
+      "the buffers are added in rank order";
+  j["imbalance"] = d.imbalance();
+  j["per_rank"] = per_rank;
+  j["sent_bytes_per_rank_per_step"] = sent;
+  j["sent_bytes_per_rank_energy_step"] = sent_energy;
+  j["received_bytes_per_rank_per_step"] = sent * others;
+  return j;
 }
 
 int run(const RunOptions& opt) {
@@ -179,24 +200,39 @@ int run(const RunOptions& opt) {
   stop_on_signal_during_setup();
   const auto start = std::chrono::steady_clock::now();
   std::optional<Scene> scene_holder;
+  std::optional<DistributedScene> parts;  // a distributed run: this rank's part of the scene
   std::optional<Simulation> sim_holder;
   std::optional<RunDriver> driver_holder;
   Decomposition decomposition;
+  std::string refusal;  // several ranks: why the scene runs on replicated state ("": it does not)
   std::ostringstream setup;
   std::string out = opt.out_dir;
   if (out.empty()) out = "runs/" + std::filesystem::path(opt.case_file).stem().string();
   auto set_up = [&]() {
     scene_holder.emplace(load_scene(opt.case_file, opt.overrides));
-    // Several ranks: each evaluates the sets centred at its own points (force_sharing.hpp).
+    // Several ranks: each holds its part of the scene (distribution.hpp) or, for a scene that
+    // scheme does not take, the whole scene, evaluating the sets centred at its own points
+    // (force_sharing.hpp).
     if (rank_count > 1) {
+      refusal = distribution_refusal(*scene_holder);
       try {
-        decomposition = share_force_work(*scene_holder, rank, rank_count);
+        if (refusal.empty()) {
+          parts.emplace(distribute_scene(*scene_holder, rank, rank_count));
+          decomposition = parts->distribution->decomposition();
+        } else {
+          decomposition = share_force_work(*scene_holder, rank, rank_count);
+        }
       } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(opt.case_file + ": " + e.what() + " (mpirun -np " +
                                     std::to_string(rank_count) + ")");
       }
     }
-    sim_holder.emplace(*scene_holder);
+    if (parts) {
+      sim_holder.emplace(parts->local, std::move(parts->distribution));
+      sim_holder->set_whole_scene(*scene_holder);
+    } else {
+      sim_holder.emplace(*scene_holder);
+    }
     Simulation& sim = *sim_holder;
     if (!opt.restart.empty()) read_checkpoint(opt.restart, sim);
     const double setup_seconds =
@@ -206,10 +242,21 @@ int run(const RunOptions& opt) {
     std::signal(SIGINT, request_stop);
     std::signal(SIGTERM, request_stop);
     print_setup(sim, setup);
-    if (rank_count > 1)
+    if (rank_count > 1) {
       setup << "MPI: " << rank_count << " ranks x " << omp_get_max_threads()
-            << " threads, force work shared by recursive coordinate bisection (imbalance "
-            << decomposition.imbalance() << "); state replicated on every rank\n";
+            << " threads, points shared by recursive coordinate bisection (imbalance "
+            << decomposition.imbalance() << "); ";
+      if (refusal.empty()) {
+        std::uint64_t ghosts = 0;
+        for (const RankShare& r : decomposition.share) ghosts += r.ghosts;
+        setup << "distributed memory: each rank holds its points and their halo, " << ghosts
+              << " halo points, " << format_bytes(halo_bytes_per_step(ghosts))
+              << " of halo messages per step in all\n";
+      } else {
+        setup << "state replicated on every rank (distributed memory does not take this scene: "
+              << refusal << ")\n";
+      }
+    }
     if (!opt.quiet && root) std::cout << setup.str() << std::flush;
 
     RunDriverOptions driver_options;
@@ -225,7 +272,7 @@ int run(const RunOptions& opt) {
     driver_options.log_header.push_back(setup.str());
     driver_options.provenance = provenance(opt);
     if (rank_count > 1)
-      driver_options.decomposition = decomposition_json(*scene_holder, decomposition);
+      driver_options.decomposition = decomposition_json(*scene_holder, decomposition, refusal);
     // An output folder that cannot be made or written is bad input too (exit 2), found before
     // any step.
     try {
@@ -260,7 +307,7 @@ int run(const RunOptions& opt) {
       }
     }
   } catch (const TunnellingError& e) {
-    // Every rank holds the same state and throws the same error at the same step.
+    // Every rank throws the same error at the same step (the guards are collectives).
     driver.stop("tunnelling", e.what());
     if (root)
       std::cerr << "ckpd: " << e.what() << "\nckpd: results up to that step are in " << out << '\n';

@@ -28,11 +28,9 @@ double point_work(const Body& body, std::size_t i);
 
 struct RankShare {
   std::uint64_t points = 0;  // owned
-  std::uint64_t ghosts = 0;  // halo points (each counted once per rank)
+  std::uint64_t ghosts = 0;  // halo points (each counted once per rank; distribution.hpp's
+                             // halo_bytes_per_step gives what they cost a step)
   double work = 0;           // sum of point_work over the owned points
-  // Per step, for the symmetric kernel: the halo's displacements sent in (3 doubles per ghost)
-  // and the forces its sets put on ghosts sent back to their owners (3 doubles per ghost).
-  std::uint64_t bytes_per_step() const { return ghosts * 2 * 3 * sizeof(double); }
 };
 
 struct Decomposition {

@@ -14,9 +14,10 @@ namespace ckpd {
 
 namespace {
 
-// Per owned point in a gather: displacement, velocity, acceleration, force density (3 each) and
-// the strain energy density; then the point's bond flags, one byte each.
-constexpr std::size_t kGatheredValues = 13;
+// Per owned point in a gather: displacement, velocity, acceleration, force density, external
+// force density (3 each) and the strain energy density; then the point's bond flags, one byte
+// each.
+constexpr std::size_t kGatheredValues = 16;
 
 void put(std::vector<unsigned char>& bytes, const double* values, std::size_t count) {
   const std::size_t at = bytes.size();
@@ -109,29 +110,29 @@ void Distribution::sum_forces(Scene& local, bool with_energy) {
   }
 }
 
-void Distribution::sum(std::vector<double>& values) {
-  ranks::sum_in_rank_order(values, scratch_);
-}
-
-double Distribution::max(double value) {
-  const std::vector<double> mine{value};
-  ranks::all_gather(mine, scratch_);
-  return *std::max_element(scratch_.begin(), scratch_.end());
+void Distribution::sum_and_max(std::vector<double>& values, std::size_t summed) {
+  ranks::all_gather(values, scratch_);
+  const std::size_t m = values.size();
+  for (std::size_t k = 0; k < m; ++k) {
+    double v = scratch_[k];
+    for (std::size_t r = 1; r * m < scratch_.size(); ++r)
+      v = k < summed ? v + scratch_[r * m + k] : std::max(v, scratch_[r * m + k]);
+    values[k] = v;
+  }
 }
 
 Distribution::Choice Distribution::choose(const Scene& local, double key, std::size_t body,
                                           std::size_t local_point) {
-  std::vector<double> mine(6, 0.0);
+  std::vector<double>& mine = proposal_;  // kept: a step allocates nothing
+  mine.assign(6, 0.0);
   mine[0] = key;
   if (key >= 0) {
-    const Body& b = local.bodies[body].body;
-    const Vec3 x = b.reference_position[local_point];
-    mine = {key,
-            static_cast<double>(body),
-            static_cast<double>(bodies_[body].links.points[local_point]),
-            x.x(),
-            x.y(),
-            x.z()};
+    const Vec3 x = local.bodies[body].body.reference_position[local_point];
+    mine[1] = static_cast<double>(body);
+    mine[2] = static_cast<double>(bodies_[body].links.points[local_point]);
+    mine[3] = x.x();
+    mine[4] = x.y();
+    mine[5] = x.z();
   }
   ranks::all_gather(mine, scratch_);
   Choice best;
@@ -158,12 +159,22 @@ void Distribution::gather(const Scene& local, Scene& whole) {
     bytes_.clear();
     for (std::size_t l = 0; l < part.size(); ++l) {
       if (!db.links.owned[l]) continue;
-      const double values[kGatheredValues] = {
-          part.displacement[l].x(),     part.displacement[l].y(),  part.displacement[l].z(),
-          part.velocity[l].x(),         part.velocity[l].y(),      part.velocity[l].z(),
-          part.acceleration[l].x(),     part.acceleration[l].y(),  part.acceleration[l].z(),
-          part.force_density[l].x(),    part.force_density[l].y(), part.force_density[l].z(),
-          part.strain_energy_density[l]};
+      const double values[kGatheredValues] = {part.displacement[l].x(),
+                                              part.displacement[l].y(),
+                                              part.displacement[l].z(),
+                                              part.velocity[l].x(),
+                                              part.velocity[l].y(),
+                                              part.velocity[l].z(),
+                                              part.acceleration[l].x(),
+                                              part.acceleration[l].y(),
+                                              part.acceleration[l].z(),
+                                              part.force_density[l].x(),
+                                              part.force_density[l].y(),
+                                              part.force_density[l].z(),
+                                              part.external_force_density[l].x(),
+                                              part.external_force_density[l].y(),
+                                              part.external_force_density[l].z(),
+                                              part.strain_energy_density[l]};
       put(bytes_, values, kGatheredValues);
       // An owned point's family is whole in the restriction, in the whole body's order.
       const std::size_t begin = part.family.offset[l], end = part.family.offset[l + 1];
@@ -184,7 +195,8 @@ void Distribution::gather(const Scene& local, Scene& whole) {
         w.velocity[g] = Vec3(v[3], v[4], v[5]);
         w.acceleration[g] = Vec3(v[6], v[7], v[8]);
         w.force_density[g] = Vec3(v[9], v[10], v[11]);
-        w.strain_energy_density[g] = v[12];
+        w.external_force_density[g] = Vec3(v[12], v[13], v[14]);
+        w.strain_energy_density[g] = v[15];
         const std::size_t begin = w.family.offset[g], end = w.family.offset[g + 1];
         std::copy(gathered_bytes_.begin() + static_cast<std::ptrdiff_t>(at),
                   gathered_bytes_.begin() + static_cast<std::ptrdiff_t>(at + end - begin),
@@ -194,6 +206,38 @@ void Distribution::gather(const Scene& local, Scene& whole) {
     if (at != gathered_bytes_.size())
       throw std::logic_error("distributed gather: the ranks' parts do not make up body '" + w.name +
                              "'");
+  }
+}
+
+void Distribution::scatter(const Scene& whole, Scene& local) const {
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    const std::vector<std::uint32_t>& global = bodies_[b].links.points;
+    const Body& w = whole.bodies[b].body;
+    Body& part = local.bodies[b].body;
+    if (w.size() != bodies_[b].whole_points || part.size() != global.size())
+      throw std::logic_error("distributed scatter: body '" + w.name +
+                             "' is not the one this rank's part was cut from");
+    for (std::size_t l = 0; l < part.size(); ++l) {
+      const std::size_t g = global[l];
+      part.displacement[l] = w.displacement[g];
+      part.velocity[l] = w.velocity[g];
+      part.acceleration[l] = w.acceleration[g];
+      part.force_density[l] = w.force_density[g];
+      part.external_force_density[l] = w.external_force_density[g];
+      part.strain_energy_density[l] = w.strain_energy_density[g];
+      // The part's family of l is the whole family of g cut to the kept points, in the same
+      // order (an owned point's is whole): walk both.
+      std::size_t k = w.family.offset[g];
+      const std::size_t k_end = w.family.offset[g + 1];
+      for (std::size_t j = part.family.offset[l]; j < part.family.offset[l + 1]; ++j) {
+        const std::uint32_t member = global[part.family.neighbour[j]];
+        while (k < k_end && w.family.neighbour[k] != member) ++k;
+        if (k == k_end)
+          throw std::logic_error("distributed scatter: a bond of body '" + w.name +
+                                 "' is not in the whole body's family");
+        part.bond_intact[j] = w.bond_intact[k++];
+      }
+    }
   }
 }
 

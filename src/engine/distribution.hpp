@@ -24,6 +24,13 @@
 
 namespace ckpd {
 
+// Bytes a step's halo messages carry for `ghosts` ghost points: their displacements and velocities
+// from the owners (kStateValues doubles each) and the forces their sets put on them back (3
+// doubles; with energy 4).
+inline std::uint64_t halo_bytes_per_step(std::uint64_t ghosts, bool with_energy = false) {
+  return ghosts * (kStateValues + force_values(with_energy)) * sizeof(double);
+}
+
 // Why `scene` cannot run distributed, in words ("body 'ball' is rigid"); empty: it can.
 std::string distribution_refusal(const Scene& scene);
 
@@ -54,10 +61,9 @@ class Distribution {
   // Backward: every owned point's force density (and with energy its strain energy density)
   // becomes the sum over ranks, in rank order, of the ranks' partials. A collective.
   void sum_forces(Scene& local, bool with_energy);
-  // values <- their sums over ranks, in rank order (the same bits on every rank). A collective.
-  void sum(std::vector<double>& values);
-  // The largest of every rank's `value`. A collective.
-  double max(double value);
+  // values[0, summed) <- their sums over ranks in rank order (the same bits on every rank), the
+  // rest <- their largest over ranks (one message for both). A collective.
+  void sum_and_max(std::vector<double>& values, std::size_t summed);
 
   // A point chosen over ranks: the one with the largest `rank_key` (ties: the lower body, then
   // global point index), as every rank sees it.
@@ -74,6 +80,9 @@ class Distribution {
   // gathered from the owners: displacement, velocity, acceleration, force and strain energy
   // densities, bond_intact). A collective; the other ranks' `whole` is not touched.
   void gather(const Scene& local, Scene& whole);
+  // The reverse, for a restart: every point of this rank's part (owned and ghost) takes its state
+  // and bond flags from `whole` (the scene a checkpoint was read into). Not a collective.
+  void scatter(const Scene& whole, Scene& local) const;
 
  private:
   friend struct DistributedScene;
@@ -84,7 +93,7 @@ class Distribution {
   StepChoice step_choice_;
   double wave_speed_ = 0;
   std::vector<std::size_t> initially_failed_;
-  std::vector<double> scratch_;
+  std::vector<double> scratch_, proposal_;
   std::vector<unsigned char> bytes_, gathered_bytes_;
 };
 

@@ -17,10 +17,7 @@ Decomposition share_force_work(Scene& scene, int rank, int ranks) {
   for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
     Body& body = scene.bodies[b].body;
     body.owned_centres.clear();
-    // Evaluated whole on every rank: the state-based solid (two-pass kernel) and a body with a
-    // far field (its linear rows overwrite whole points' forces, which a sum over ranks would
-    // count once per rank).
-    if (rigid[b] || body.model == &state_based_kernels() || scene.bodies[b].far_field) continue;
+    if (!force_work_can_be_shared(scene.bodies[b])) continue;  // evaluated whole on every rank
     body.owned_centres.resize(body.size());
     for (std::size_t i = 0; i < body.size(); ++i)
       body.owned_centres[i] = d.owner[b][i] == rank ? 1 : 0;
@@ -28,10 +25,14 @@ Decomposition share_force_work(Scene& scene, int rank, int ranks) {
   return d;
 }
 
+bool force_work_can_be_shared(const SceneBody& sb) {
+  return !sb.rigid && sb.body.model != &state_based_kernels() && !sb.far_field;
+}
+
 std::size_t shared_force_values(const Scene& scene, bool with_energy) {
   std::size_t m = 0;
   for (const SceneBody& sb : scene.bodies)
-    if (shares_force_work(sb.body)) m += (with_energy ? 4 : 3) * sb.body.size() + with_energy;
+    if (shares_force_work(sb.body)) m += shared_force_values(sb.body, with_energy);
   return m;
 }
 

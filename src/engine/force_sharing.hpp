@@ -26,8 +26,18 @@ inline bool shares_force_work(const Body& b) {
   return !b.owned_centres.empty();
 }
 
-// The doubles a rank sends per combination: 3 per point of every sharing body, plus one per
-// point and one per body in an evaluation with energy.
+// Whether share_force_work shares a body's work at several ranks: not a rigid body's, the
+// state-based solid's (two-pass kernel) or a body's with a far field (its linear rows overwrite
+// whole points' forces, which a sum over ranks would count once per rank).
+bool force_work_can_be_shared(const SceneBody& sb);
+
+// The doubles a rank sends per combination for one sharing body: 3 per point, plus one per point
+// and one per body in an evaluation with energy.
+inline std::size_t shared_force_values(const Body& b, bool with_energy) {
+  return (with_energy ? 4 : 3) * b.size() + (with_energy ? 1 : 0);
+}
+
+// The doubles a rank sends per combination: shared_force_values of every sharing body.
 std::size_t shared_force_values(const Scene& scene, bool with_energy);
 
 struct ForceSharingBuffers {

@@ -563,7 +563,14 @@ void Simulation::reduce_books(bool with_energy) {
   v.assign({external_work_, dissipated_, strain_energy_, kinetic_energy()});
   for (std::size_t k = 0; k < bodies; ++k) v.push_back(static_cast<double>(failed_[k]));
   for (std::size_t k = 0; k < bodies; ++k) v.push_back(static_cast<double>(inverted_[k]));
-  distribution_->sum(v);  // the counts are integers below 2^53: summed exactly
+  // The largest damage of this rank's booked points: a max over ranks, not a sum.
+  double damage = 0;
+  for (const SceneBody& sb : scene_.bodies)
+    if (sb.body.damage_enabled) damage = std::max(damage, max_point_damage(sb.body));
+  const std::size_t summed = v.size();
+  v.push_back(damage);
+  distribution_->sum_and_max(v, summed);  // the counts are integers below 2^53: summed exactly
+  books_.max_damage = v[summed];
   books_.external_work = v[0];
   books_.dissipated = v[1];
   books_.kinetic = v[3];
@@ -782,6 +789,8 @@ void Simulation::restore(const Counters& c) {
 }
 
 void Simulation::refresh_strain_energy() {
+  // A distributed run's ghosts were moved by the step with partial forces: their owners' state.
+  if (distribution_) distribution_->exchange_state(scene_);
   const std::size_t bodies = scene_.bodies.size();
   std::vector<double>& strain = step_strain_;
   strain.assign(bodies, 0.0);
@@ -877,10 +886,17 @@ double Simulation::exact_fraction() const {
 }
 
 double Simulation::max_damage() const {
+  if (distribution_) return books_.max_damage;
   double d = 0;
   for (const SceneBody& sb : scene_.bodies)
     if (sb.body.damage_enabled) d = std::max(d, max_point_damage(sb.body));
-  return distribution_ ? distribution_->max(d) : d;
+  return d;
+}
+
+void Simulation::gather_whole() {
+  if (!distribution_) return;
+  if (!whole_) throw std::logic_error("Simulation::gather_whole: no whole scene to gather into");
+  distribution_->gather(scene_, *whole_);
 }
 
 }  // namespace ckpd

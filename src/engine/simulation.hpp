@@ -114,6 +114,17 @@ class Simulation {
   Simulation& operator=(const Simulation&) = delete;
   // Null for a run in one process or on the replicated scheme.
   Distribution* distribution() const { return distribution_.get(); }
+  // A distributed run: the whole scene this rank's part was cut from (distribute_scene), which
+  // gather_whole() fills on rank 0 for the output and a restart reads a checkpoint into. Set
+  // once, before the run's first output.
+  void set_whole_scene(Scene& whole) { whole_ = &whole; }
+  // Collective in a distributed run: rank 0's whole scene takes the state and bond flags of every
+  // rank's owned points. Does nothing in a run without a distribution.
+  void gather_whole();
+  // The scene as a whole, what the output reads: scene(), or in a distributed run the whole
+  // scene (on rank 0 as of the last gather_whole(); on the other ranks as it was built).
+  const Scene& whole_scene() const { return whole_ ? *whole_ : scene_; }
+  Scene& whole_scene() { return whole_ ? *whole_ : scene_; }
 
   // One step. With `with_energy`, the strain energy is evaluated at the new time (and the
   // energy guard runs). Throws InstabilityError when the guard trips.
@@ -152,6 +163,8 @@ class Simulation {
   std::size_t broken_bonds() const;
   std::size_t broken_bonds(std::size_t body) const;
   std::size_t precracked_bonds(std::size_t body) const { return initially_failed_[body]; }
+  // The largest point damage of the bodies with damage (a distributed run's: over all ranks, as
+  // of the last step; not a collective).
   double max_damage() const;
   // Whether some body has a far field; the fraction of those bodies' points evaluated exactly at
   // the last force evaluation (1 without a far field).
@@ -261,12 +274,13 @@ class Simulation {
   // bonds this rank books (at their lower ends).
   std::unique_ptr<Distribution> distribution_;
   struct Books {
-    double external_work = 0, dissipated = 0, strain = 0, kinetic = 0;
+    double external_work = 0, dissipated = 0, strain = 0, kinetic = 0, max_damage = 0;
     std::vector<std::uint64_t> inverted;
     std::vector<std::size_t> failed;
   } books_;
   std::vector<std::size_t> failed_;
   std::vector<double> book_values_;
+  Scene* whole_ = nullptr;
   double kinetic_energy() const;  // this process's points (a distributed run: its owned ones)
 };
 

@@ -9,6 +9,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "src/engine/distribution.hpp"
 #include "src/output/hdf5_io.hpp"
 
 namespace ckpd {
@@ -176,8 +177,8 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
     ContentHash hash;
     hash_counters(hash, sim.step_choice().dt, c, sim.adaptive());
     hdf5::write_string_attribute(file, "format", kFormat);
-    hdf5::write_string_attribute(file, "case_fingerprint", sim.scene().fingerprint);
-    hdf5::write_string_attribute(file, "case_physics", sim.scene().physics);
+    hdf5::write_string_attribute(file, "case_fingerprint", sim.whole_scene().fingerprint);
+    hdf5::write_string_attribute(file, "case_physics", sim.whole_scene().physics);
     hdf5::write_double_attribute(file, "dt", sim.step_choice().dt);
     hdf5::write_double_attribute(file, "time", c.time);
     hdf5::write_int64_attribute(file, "step", c.step);
@@ -192,9 +193,10 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
       hdf5::write_double_attribute(file, "adaptive_smallest_step", c.smallest_step);
       hdf5::write_int64_attribute(file, "adaptive_reduced_steps", c.reduced_steps);
     }
-    hdf5::write_int64_attribute(file, "bodies", static_cast<long long>(sim.scene().bodies.size()));
-    for (std::size_t b = 0; b < sim.scene().bodies.size(); ++b) {
-      const Body& body = sim.scene().bodies[b].body;
+    hdf5::write_int64_attribute(file, "bodies",
+                                static_cast<long long>(sim.whole_scene().bodies.size()));
+    for (std::size_t b = 0; b < sim.whole_scene().bodies.size(); ++b) {
+      const Body& body = sim.whole_scene().bodies[b].body;
       Handle group(H5Gcreate2(file, ("body_" + std::to_string(b)).c_str(), H5P_DEFAULT, H5P_DEFAULT,
                               H5P_DEFAULT),
                    H5Gclose, "create a body group");
@@ -211,7 +213,7 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
                           body.size(), 1);
       hdf5::write_bytes(group, "bond_intact", body.bond_intact);
       hash_body(hash, body, c.initially_failed[b]);
-      if (const auto& rigid = sim.scene().bodies[b].rigid) {
+      if (const auto& rigid = sim.whole_scene().bodies[b].rigid) {
         const RigidMotion::State r = rigid->state();
         const double packed[kRigidState] = {r.centre.x(),           r.centre.y(),
                                             r.centre.z(),           r.velocity.x(),
@@ -273,11 +275,11 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
                             "the start");
     if (format != kFormat)
       throw CheckpointError(path + ": not a ckpd checkpoint of a known format");
-    if (hdf5::read_string_attribute(file, "case_fingerprint") != sim.scene().fingerprint) {
+    if (hdf5::read_string_attribute(file, "case_fingerprint") != sim.whole_scene().fingerprint) {
       std::string difference;
       try {
         difference = first_difference(YAML::Load(hdf5::read_string_attribute(file, "case_physics")),
-                                      YAML::Load(sim.scene().physics), "");
+                                      YAML::Load(sim.whole_scene().physics), "");
       } catch (const std::exception&) {
         difference = "";  // an unreadable record of the case: say only that it differs
       }
@@ -292,7 +294,7 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
       throw CheckpointError(path + ": written with dt = " + format_seconds(dt) +
                             " s, this case gives " + format_seconds(sim.step_choice().dt) +
                             " s (a restart must keep the time step)");
-    Scene& scene = sim.scene();
+    Scene& scene = sim.whole_scene();
     if (hdf5::read_int64_attribute(file, "bodies") != static_cast<long long>(scene.bodies.size()))
       throw CheckpointError(path + ": holds another number of bodies");
     Simulation::Counters c;
@@ -406,6 +408,8 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
       throw CheckpointError(path +
                             ": the content hash does not match the stored one (the file "
                             "was changed or corrupted after it was written)");
+    // A distributed run read the file into the whole scene: each rank takes its part's state.
+    if (const Distribution* d = sim.distribution()) d->scatter(scene, sim.scene());
     sim.restore(c);
     if (sim.contact()) {
       try {

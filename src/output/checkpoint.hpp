@@ -17,10 +17,12 @@ class CheckpointError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Writes sim.whole_scene() (a distributed run: rank 0's, gathered).
 void write_checkpoint(const std::string& path, const Simulation& sim);
 
-// Overwrites the state of `sim` (built from the same case) with the checkpoint's. Throws
-// CheckpointError naming the file and what does not match.
+// Overwrites the state of `sim` (built from the same case) with the checkpoint's: a distributed
+// run reads it into its whole scene and each rank takes its part's (a checkpoint written on N
+// ranks restarts on M). Throws CheckpointError naming the file and what does not match.
 void read_checkpoint(const std::string& path, Simulation& sim);
 
 }  // namespace ckpd

@@ -12,7 +12,7 @@ nlohmann::ordered_json vector_json(const Vec3& v) {
 
 nlohmann::ordered_json rigid_bodies(const Simulation& sim) {
   nlohmann::ordered_json list = nlohmann::ordered_json::array();
-  for (const SceneBody& sb : sim.scene().bodies) {
+  for (const SceneBody& sb : sim.whole_scene().bodies) {
     if (!sb.rigid) continue;
     const RigidMotion& r = *sb.rigid;
     list.push_back({{"name", sb.body.name},
@@ -28,7 +28,7 @@ nlohmann::ordered_json rigid_bodies(const Simulation& sim) {
 // Every body's centre of mass and mean velocity (momentum / mass): where the bodies went.
 nlohmann::ordered_json body_motion(const Simulation& sim) {
   nlohmann::ordered_json list = nlohmann::ordered_json::array();
-  for (const SceneBody& sb : sim.scene().bodies) {
+  for (const SceneBody& sb : sim.whole_scene().bodies) {
     const Body& b = sb.body;
     Vec3 centre = Vec3::Zero(), momentum = Vec3::Zero();
     double volume = 0, mass = 0;
@@ -64,7 +64,7 @@ nlohmann::ordered_json contact_summary(const Simulation& sim) {
     j["point_pair_tests"] = s.point_pair_tests;
     j["contact_seconds"] = s.seconds;
     nlohmann::ordered_json laws = nlohmann::ordered_json::array();
-    for (const ContactLawNote& n : contact_law_notes(sim.scene()))
+    for (const ContactLawNote& n : contact_law_notes(sim.whole_scene()))
       laws.push_back({{"bodies", n.bodies},
                       {"law", n.law},
                       {"friction", n.friction},

@@ -15,7 +15,7 @@ namespace ckpd {
 namespace {
 
 const Body& body_of(const Simulation& sim, std::size_t b) {
-  return sim.scene().bodies[b].body;
+  return sim.whole_scene().bodies[b].body;
 }
 
 // A row for a per-point vector: `get(body, i)` gives the value at point i.

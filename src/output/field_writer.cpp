@@ -90,7 +90,7 @@ void write_wall_group(hid_t group, const SceneBody& sb, std::size_t b,
 
 void write_point_group(hid_t group, const Simulation& sim, std::size_t b,
                        const std::vector<std::string>& fields, std::vector<double>& buffer) {
-  const std::size_t n = sim.scene().bodies[b].body.size();
+  const std::size_t n = sim.whole_scene().bodies[b].body.size();
   // The Polyvertex connectivity: point k is cell k.
   std::vector<std::int32_t> ids(n);
   for (std::size_t i = 0; i < n; ++i) ids[i] = static_cast<std::int32_t>(i);
@@ -185,7 +185,7 @@ void FieldWriter::write_frame(const Simulation& sim) {
                 "create " + temp_path);
     hdf5::write_double_attribute(file, "time", sim.time());
     hdf5::write_int64_attribute(file, "step", sim.step());
-    const auto& bodies = sim.scene().bodies;
+    const auto& bodies = sim.whole_scene().bodies;
     std::vector<double> buffer;
     for (std::size_t b = 0; b < bodies.size(); ++b) {
       const SceneBody& sb = bodies[b];
@@ -222,7 +222,7 @@ void FieldWriter::write_xdmf(const Simulation& sim) const {
     x << std::setprecision(17);
     x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
       << "  <Grid Name=\"run\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    const auto& bodies = sim.scene().bodies;
+    const auto& bodies = sim.whole_scene().bodies;
     for (const Frame& frame : frames_) {
       x << "   <Grid Name=\"" << frame.file << "\" GridType=\"Collection\" "
         << "CollectionType=\"Spatial\">\n    <Time Value=\"" << frame.time << "\"/>\n";

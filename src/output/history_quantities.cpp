@@ -8,7 +8,7 @@ namespace ckpd {
 namespace {
 
 const SceneBody& body_at(const Simulation& sim, const HistoryQuantity& q, std::size_t k = 0) {
-  return sim.scene().bodies[q.bodies[k]];
+  return sim.whole_scene().bodies[q.bodies[k]];
 }
 
 void put(std::vector<double>& out, const Vec3& v) {

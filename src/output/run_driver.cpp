@@ -38,6 +38,8 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
     std::filesystem::remove(out + "/summary.json", ec);
     if (o.writes_fields()) fields_.emplace(out, o.fields, resume_);
   }
+  // A distributed run: rank 0's whole scene holds every rank's state for the output.
+  sim_.gather_whole();
   if (resume_ < 0 && history_) history_->write_row(sim_);
   if (resume_ < 0) row_step_ = sim_.step();
   if (fields_ && (resume_ < 0 || fields_->frames() == 0)) fields_->write_frame(sim_);
@@ -84,6 +86,10 @@ void RunDriver::step(bool with_energy) {
   const bool energy = ranks::from_root(with_energy || row || (frame && fields_->needs_energy()));
   sim_.advance(energy);
   if (energy) progress_.energy_evaluated(sim_);
+  const long long every = sim_.scene().output.checkpoint_interval;
+  const bool checkpoint = every > 0 && sim_.step() % every == 0;
+  // Every rank knows what is due: in a distributed run all take part in the gather.
+  if (row || frame || checkpoint) sim_.gather_whole();
   if (row) {
     if (history_) history_->write_row(sim_);
     row_step_ = sim_.step();
@@ -91,14 +97,15 @@ void RunDriver::step(bool with_energy) {
   report_inversion();
   if (frame) fields_->write_frame(sim_);
   progress_.update(sim_);
-  const long long every = sim_.scene().output.checkpoint_interval;
-  if (every > 0 && sim_.step() % every == 0) write_checkpoint();
+  if (checkpoint) write_checkpoint();
 }
 
 void RunDriver::write_checkpoint() {
-  if (options_.out.empty() || checkpoint_step_ == sim_.step()) return;
-  ckpd::write_checkpoint(checkpoint_path(), sim_);
+  // On every rank (the gather of a distributed run is a collective); rank 0 writes.
+  if (checkpoint_step_ == sim_.step()) return;
   checkpoint_step_ = sim_.step();
+  sim_.gather_whole();
+  if (!options_.out.empty()) ckpd::write_checkpoint(checkpoint_path(), sim_);
 }
 
 nlohmann::ordered_json RunDriver::summary(const std::string& status,
@@ -120,15 +127,13 @@ nlohmann::ordered_json RunDriver::summary(const std::string& status,
 
 void RunDriver::stop(const std::string& status, const std::string& message) {
   progress_.finish();
-  if (row_step_ != sim_.step()) {
-    // The last step had no evaluation with energy: the row and the summary must not carry the
-    // strain energy of the row before against this step's kinetic energy and work.
-    if (ranks::from_root(history_.has_value())) {
-      sim_.refresh_strain_energy();  // a collective in an MPI run
-      if (history_) history_->write_row(sim_);
-    }
-    row_step_ = sim_.step();
-  }
+  // The last step had no evaluation with energy: the row and the summary must not carry the
+  // strain energy of the row before against this step's kinetic energy and work.
+  const bool refresh = row_step_ != sim_.step() && ranks::from_root(history_.has_value());
+  if (refresh) sim_.refresh_strain_energy();  // a collective in an MPI run
+  sim_.gather_whole();                        // the last row's and the summary's bodies
+  if (refresh && history_) history_->write_row(sim_);
+  row_step_ = sim_.step();
   if (!options_.out.empty()) write_json(options_.out + "/summary.json", summary(status, message));
   if (status == "completed") {
     std::ostringstream line;

@@ -76,7 +76,7 @@ std::string inversion_warning(const Simulation& sim) {
   const InversionRecord& r = sim.first_inversion();
   if (r.step < 0) return "";
   const char* what = "tetrahedra";
-  for (const SceneBody& sb : sim.scene().bodies)
+  for (const SceneBody& sb : sim.whole_scene().bodies)
     if (sb.body.name == r.body && sb.body.dimension == 2) what = "triangles";
   std::ostringstream msg;
   msg << "model breakdown: " << r.count << " inverted " << what << " in body '" << r.body
@@ -106,11 +106,11 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
   nlohmann::ordered_json j;
   j["status"] = status;
   if (!message.empty()) j["message"] = message;
-  j["case"] = sim.scene().case_file;
+  j["case"] = sim.whole_scene().case_file;
   std::uint64_t points = 0, bonds = 0, pairs = 0, triples = 0;
   nlohmann::ordered_json bodies = nlohmann::ordered_json::array();
-  for (std::size_t index = 0; index < sim.scene().bodies.size(); ++index) {
-    const SceneBody& sb = sim.scene().bodies[index];
+  for (std::size_t index = 0; index < sim.whole_scene().bodies.size(); ++index) {
+    const SceneBody& sb = sim.whole_scene().bodies[index];
     const Body& b = sb.body;
     points += b.size();
     bonds += b.bond_count();

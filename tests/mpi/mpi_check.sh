@@ -6,11 +6,13 @@
 # body with a far field (evaluated whole on every rank) must agree at 1 and 2 ranks; SIGTERM sent
 # to one rank must stop every rank after the same step with a checkpoint that continues to the
 # uninterrupted run. Exit 77 (skipped) for a build without MPI.
-#   mpi_check.sh CKPD SOURCE_DIR WORK_DIR equivalence CASE | restart CASE | errors |
-#                far_field CASE | signal CASE
+# SCHEME (distributed or replicated): the scheme summary.json says the ranks ran on.
+#   mpi_check.sh CKPD SOURCE_DIR WORK_DIR equivalence CASE SCHEME | restart CASE SCHEME | errors |
+#                far_field CASE SCHEME | signal CASE SCHEME
 set -eu
 ckpd=$1 src=$2 work=$3 what=$4
 case_file=${5:+$src/$5}
+scheme=${6:-}
 "$ckpd" --version | grep -q "MPI none" && { echo "ckpd is built without MPI: skipped"; exit 77; }
 command -v mpirun >/dev/null || { echo "no mpirun: skipped"; exit 77; }
 python=/usr/bin/python3
@@ -18,6 +20,15 @@ mpi() {
   np=$1
   shift
   OMP_NUM_THREADS=1 mpirun --oversubscribe --allow-run-as-root -np "$np" -x OMP_NUM_THREADS "$@"
+}
+# The scheme a run of several ranks in DIR ran on must be SCHEME.
+ran_on() {
+  $python - "$1/summary.json" "$scheme" <<'PY'
+import json, sys
+state = json.load(open(sys.argv[1]))["decomposition"]["state"]
+print(f"{sys.argv[1]}: {state.split(':')[0]}")
+sys.exit(0 if state.startswith(sys.argv[2] + ":") else 1)
+PY
 }
 rm -rf "$work"
 mkdir -p "$work"
@@ -27,18 +38,24 @@ equivalence)
   mpi 2 "$ckpd" run "$case_file" --out "$work/np2" --quiet
   mpi 3 "$ckpd" run "$case_file" --out "$work/np3" --quiet
   grep -q '"ranks": 3' "$work/np3/summary.json"
+  ran_on "$work/np2"
+  ran_on "$work/np3"
   $python "$src/tests/mpi/compare_runs.py" "$work/np1" "$work/np2" "$work/np3"
   ;;
 restart)
   OMP_NUM_THREADS=1 "$ckpd" run "$case_file" --out "$work/whole" --quiet
   mpi 2 "$ckpd" run "$case_file" --out "$work/split" --quiet --set time.steps=120 \
     --set output.checkpoint_interval=120
+  ran_on "$work/split"
   mpi 3 "$ckpd" run "$case_file" --out "$work/split" --quiet --restart "$work/split/checkpoint.h5"
+  ran_on "$work/split"
+  grep -q '"ranks": 3' "$work/split/summary.json"
   $python "$src/tests/mpi/compare_runs.py" "$work/whole" "$work/split"
   ;;
 far_field)
   OMP_NUM_THREADS=1 "$ckpd" run "$case_file" --out "$work/np1" --quiet
   mpi 2 "$ckpd" run "$case_file" --out "$work/np2" --quiet
+  ran_on "$work/np2"
   # The far field must have been in use: some points linear, some exact at the end.
   $python - "$work/np1/summary.json" <<'PY'
 import json, sys
@@ -79,6 +96,7 @@ signal)
     "$work/split/summary.json")
   echo "both ranks exited 130; summary: $stopped; $(cat "$work/err")"
   [ "${stopped% *}" = interrupted ] || { echo "summary status is not 'interrupted'"; exit 1; }
+  ran_on "$work/split"
   # Continue 120 steps past the stop (through the fracture) and compare with one process run
   # straight to that step.
   steps=$((${stopped#* } + 120))
