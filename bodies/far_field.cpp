@@ -1,10 +1,11 @@
 #include "bodies/far_field.hpp"
 
 #include <algorithm>
+#include <limits>
 
 namespace ckpd {
 
-FarField make_far_field(const Body& body, double tolerance) {
+FarField make_far_field(const Body& body, double tolerance, bool corotated) {
   FarField ff;
   ff.tolerance = tolerance;
   ff.op = linear_operator_by_class(body);
@@ -12,8 +13,73 @@ FarField make_far_field(const Body& body, double tolerance) {
   ff.exact.assign(n, 0);
   ff.row_failed.assign(n, 0);
   ff.skip.assign(n, 0);
+  ff.corotated = corotated;
+  if (!corotated) return ff;
+  ff.shape_inverse.assign(n, Eigen::Matrix3d::Zero());
+  ff.rotation.assign(n, Eigen::Matrix3d::Identity());
+  for (std::size_t i = 0; i < n; ++i) {
+    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+    for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
+      const Vec3 dX =
+          body.reference_position[body.family.neighbour[k]] - body.reference_position[i];
+      A += dX * dX.transpose();
+    }
+    // In the plane: any positive out-of-plane entry leaves F's out-of-plane entry at 1 (its
+    // row and column of sum_j du dX^T are zero); the in-plane mean keeps A's scale.
+    if (body.dimension == 2) A(2, 2) = 0.5 * (A(0, 0) + A(1, 1));
+    // A family that spans no volume (area) has no rotation to take out: exact throughout.
+    const double scale = A.trace();
+    if (!(scale > 0) || !(A.determinant() > 1e-9 * scale * scale * scale)) {
+      ff.exact[i] = 1;
+      continue;
+    }
+    ff.shape_inverse[i] = A.inverse();
+  }
+  ff.exact_count = static_cast<std::size_t>(std::count(ff.exact.begin(), ff.exact.end(), 1));
   return ff;
 }
+
+bool polar_rotation(const Eigen::Matrix3d& F, Eigen::Matrix3d& R) {
+  if (!(F.determinant() > 0)) return false;
+  Eigen::Matrix3d X = F;
+  for (int k = 0; k < 30; ++k) {
+    const Eigen::Matrix3d next = 0.5 * (X + X.inverse().transpose());
+    const double change = (next - X).squaredNorm();
+    X = next;
+    if (change < 1e-30) break;  // |R|^2 = 3: converged to round-off
+  }
+  R = X;
+  return true;
+}
+
+namespace {
+
+// Corotated screen of point i: R^i from its family's deformation gradient, then
+// max_j |R^iT dx^ij - dX^ij|^2 / L^2 (+inf for an inverted family).
+double corotated_screen(const Body& body, FarField& ff, std::size_t i) {
+  const std::size_t* offset = body.family.offset.data();
+  const std::uint32_t* nb = body.family.neighbour.data();
+  const Vec3 Xi = body.reference_position[i], ui = body.displacement[i];
+  Eigen::Matrix3d G = Eigen::Matrix3d::Zero();  // sum_j (u^j - u^i) dX^T
+  for (std::size_t k = offset[i]; k < offset[i + 1]; ++k) {
+    const std::uint32_t j = nb[k];
+    G += (body.displacement[j] - ui) * (body.reference_position[j] - Xi).transpose();
+  }
+  const Eigen::Matrix3d F = Eigen::Matrix3d::Identity() + G * ff.shape_inverse[i];
+  Eigen::Matrix3d& R = ff.rotation[i];
+  if (!polar_rotation(F, R)) return std::numeric_limits<double>::infinity();
+  const Eigen::Matrix3d Rt = R.transpose(), Qt = Rt - Eigen::Matrix3d::Identity();
+  double worst = 0;
+  for (std::size_t k = offset[i]; k < offset[i + 1]; ++k) {
+    const std::uint32_t j = nb[k];
+    const Vec3 dX = body.reference_position[j] - Xi;
+    const Vec3 d = Rt * (body.displacement[j] - ui) + Qt * dX;
+    worst = std::max(worst, d.squaredNorm() / dX.squaredNorm());
+  }
+  return worst;
+}
+
+}  // namespace
 
 void classify_far_field(const Body& body, FarField& ff) {
   const std::size_t n = body.size();
@@ -33,6 +99,10 @@ void classify_far_field(const Body& body, FarField& ff) {
         for (std::size_t k = offset[i]; k < offset[i + 1]; ++k) failed |= intact[k] == 0;
       ff.row_failed[i] = failed;
       if (ff.exact[i] || failed || !moved) continue;
+      if (ff.corotated) {
+        if (!(corotated_screen(body, ff, i) < T * T)) ff.exact[i] = 1;
+        continue;
+      }
       const Vec3 Xi = body.reference_position[i], ui = body.displacement[i];
       double worst = 0;  // max_j |u^j - u^i|^2 / L^2
       for (std::size_t k = offset[i]; k < offset[i + 1]; ++k) {
@@ -92,12 +162,19 @@ SymmetricKernelStats compute_internal_force_far_field(Body& body, FarField& ff, 
   }
   workspace.skip_centre = nullptr;
   workspace.exact_point = nullptr;
-  apply_linear_operator_rows(ff.op, body, ff.exact.data(), body.force_density);
+  if (ff.corotated)
+    apply_linear_operator_rows_corotated(ff.op, body, ff.exact.data(), ff.rotation,
+                                         body.force_density);
+  else
+    apply_linear_operator_rows(ff.op, body, ff.exact.data(), body.force_density);
   if (with_energy) {
     const std::size_t n = body.size();
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i)
-      if (!ff.exact[i]) body.strain_energy_density[i] = linear_energy_density(ff.op, body, i);
+      if (!ff.exact[i])
+        body.strain_energy_density[i] =
+            ff.corotated ? linear_energy_density_corotated(ff.op, body, i, ff.rotation[i])
+                         : linear_energy_density(ff.op, body, i);
   }
   return stats;
 }

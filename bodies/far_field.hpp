@@ -9,6 +9,15 @@
 // masking, SymmetricKernelWorkspace::exact_point: its forces would land on linear rows only).
 // Linear points get b^i = sum_c K^ic u^c from the linear operator's row (linear_operator.hpp),
 // and the strain energy density linear_energy_density (their share of (1/2) u^T H u).
+//
+// Corotated (far_field: {tolerance: T, corotated: true}): point i's local rotation R^i, the
+// rotation of the polar decomposition of its family's deformation gradient
+// F^i = (sum_j dx^ij dX^ijT) (sum_j dX^ij dX^ijT)^-1, is taken out first. The screen becomes
+// max_j |R^iT dx^ij - dX^ij| / L^ij < T (it bounds the strain, not the rotation) and a linear
+// point's force and energy are those of the corotated relative displacements
+// d^ij = R^iT dx^ij - dX^ij: b^i = R^i sum_j K^ij d^ij, W^i = (1/4) sum_j d^ij . K^ij d^ij. A
+// rigid motion of any size leaves them at zero; the error against the exact force is of second
+// order in the strain, as without rotation.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -29,6 +38,10 @@ struct FarField {
   // Leave out the sets of processed centres that have no exact vertex (the exact rows are the
   // same bit for bit either way; false: every set, for the tests that compare).
   bool mask_sets = true;
+  // Corotated: per point the inverse of its family's shape tensor sum_j dX dX^T (2D bodies: in
+  // the plane, with 1 out of it) and, for the linear points, R^i as of the last classification.
+  bool corotated = false;
+  std::vector<Eigen::Matrix3d> shape_inverse, rotation;
   double exact_fraction() const {
     return exact.empty() ? 0.0
                          : static_cast<double>(exact_count) / static_cast<double>(exact.size());
@@ -37,10 +50,15 @@ struct FarField {
 
 // The far field of a body at its reference state (throws std::invalid_argument for a model
 // without a linearisation, as reference_linear_operator does).
-FarField make_far_field(const Body& body, double tolerance);
+FarField make_far_field(const Body& body, double tolerance, bool corotated = false);
 
-// Updates ff.exact (sticky), ff.skip and ff.exact_count from the body's bonds and displacements:
-// O(bonds), parallel, no allocation after the first call.
+// The rotation R of the polar decomposition F = R U (U symmetric positive definite), by Newton's
+// iteration X <- (X + X^-T) / 2 from X = F: quadratic near a rotation, and a linear point's F is
+// within T of one. False (R untouched) when det F <= 0: an inverted family, never linear.
+bool polar_rotation(const Eigen::Matrix3d& F, Eigen::Matrix3d& R);
+
+// Updates ff.exact (sticky), ff.skip and ff.exact_count (and, corotated, ff.rotation) from the
+// body's bonds and displacements: O(bonds), parallel, no allocation after the first call.
 void classify_far_field(const Body& body, FarField& ff);
 
 // The body's internal force density (and, with energy, strain energy density) with the far

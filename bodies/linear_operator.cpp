@@ -60,6 +60,15 @@ Vec3 row_product(const LinearOperator& op, const Body& body, std::size_t i) {
     sum += row[slot] * body.displacement[body.family.neighbour[k]];
   return sum;
 }
+
+// Point i's corotated relative displacement towards j, R^T dx^ij - dX^ij, as
+// R^T (u^j - u^i) + (R^T - I) dX^ij (Rt = R^T, Qt = R^T - I): without a rotation it is u^j - u^i
+// bit for bit, not the difference of two nearly equal bond vectors.
+Vec3 corotated_relative(const Body& body, const Eigen::Matrix3d& Rt, const Eigen::Matrix3d& Qt,
+                        std::size_t i, std::size_t j) {
+  return Rt * (body.displacement[j] - body.displacement[i]) +
+         Qt * (body.reference_position[j] - body.reference_position[i]);
+}
 }  // namespace
 
 double linear_energy_density(const LinearOperator& op, const Body& body, std::size_t i) {
@@ -69,6 +78,19 @@ double linear_energy_density(const LinearOperator& op, const Body& body, std::si
   std::size_t slot = 1;
   for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k, ++slot) {
     const Vec3 d = body.displacement[body.family.neighbour[k]] - ui;
+    w += d.dot(row[slot] * d);
+  }
+  return 0.25 * w;
+}
+
+double linear_energy_density_corotated(const LinearOperator& op, const Body& body, std::size_t i,
+                                       const Eigen::Matrix3d& R) {
+  const Eigen::Matrix3d* row = &op.block[op.row[i]];
+  const Eigen::Matrix3d Rt = R.transpose(), Qt = Rt - Eigen::Matrix3d::Identity();
+  double w = 0;
+  std::size_t slot = 1;
+  for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k, ++slot) {
+    const Vec3 d = corotated_relative(body, Rt, Qt, i, body.family.neighbour[k]);
     w += d.dot(row[slot] * d);
   }
   return 0.25 * w;
@@ -87,6 +109,27 @@ void apply_linear_operator_rows(const LinearOperator& op, const Body& body,
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i)
     if (!exact[i]) b[i] = row_product(op, body, i);
+}
+
+void apply_linear_operator_rows_corotated(const LinearOperator& op, const Body& body,
+                                          const std::uint8_t* exact,
+                                          const std::vector<Eigen::Matrix3d>& rotation,
+                                          std::vector<Vec3>& b) {
+  const std::size_t n = body.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (exact[i]) continue;
+    // Row i's blocks sum to zero over its columns (a translation gives no force), so the row
+    // acts on the relative displacements alone.
+    const Eigen::Matrix3d* row = &op.block[op.row[i]];
+    const Eigen::Matrix3d& R = rotation[i];
+    const Eigen::Matrix3d Rt = R.transpose(), Qt = Rt - Eigen::Matrix3d::Identity();
+    Vec3 sum = Vec3::Zero();
+    std::size_t slot = 1;
+    for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k, ++slot)
+      sum += row[slot] * corotated_relative(body, Rt, Qt, i, body.family.neighbour[k]);
+    b[i] = R * sum;
+  }
 }
 
 }  // namespace ckpd

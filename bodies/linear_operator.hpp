@@ -53,11 +53,20 @@ void apply_linear_operator(const LinearOperator& op, const Body& body, std::vect
 // body's points and its other rows are left as they are.
 void apply_linear_operator_rows(const LinearOperator& op, const Body& body,
                                 const std::uint8_t* exact, std::vector<Vec3>& b);
+// The corotated rows (far_field.hpp): b^i = R^i sum_j K^ij (R^iT dx^ij - dX^ij) for the rows with
+// exact[i] == 0, R^i = rotation[i].
+void apply_linear_operator_rows_corotated(const LinearOperator& op, const Body& body,
+                                          const std::uint8_t* exact,
+                                          const std::vector<Eigen::Matrix3d>& rotation,
+                                          std::vector<Vec3>& b);
 // Row i's share of the quadratic energy (1/2) u^T H u, H = -V K (rows summing to zero, and
 // symmetric under energy_consistent): W^i = (1/4) sum_j d^ij . K^ij d^ij with d^ij = u^j - u^i,
 // a strain energy density (J/m^3) that a rigid translation leaves at zero. Summed with the
 // volumes over all points it is the quadratic energy exactly (THEORY.md section 11b).
 double linear_energy_density(const LinearOperator& op, const Body& body, std::size_t i);
+// The same of the corotated relative displacements d^ij = R^T dx^ij - dX^ij.
+double linear_energy_density_corotated(const LinearOperator& op, const Body& body, std::size_t i,
+                                       const Eigen::Matrix3d& R);
 
 namespace linear_operator_detail {
 // Where each point of one centre's family sits in each other's rows: at (1 + a) * m + (1 + b),

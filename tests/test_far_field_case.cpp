@@ -1,7 +1,7 @@
-// `far_field: {tolerance: T}` on a body (src/case/case_loader.cpp): T = 0 runs exactly as
-// without the key (history.csv byte for byte); T > 0 adds the history column exact_fraction and
-// summary.json's far_field entry; `ckpd check` reports the operator's memory; bad values and a
-// model without a linearisation are refused naming file, line and key, exit 2.
+// `far_field: {tolerance: T, corotated: B}` on a body (src/case/case_loader.cpp): T = 0 runs
+// exactly as without the key (history.csv byte for byte); T > 0 adds the history column
+// exact_fraction and summary.json's far_field entry; `ckpd check` reports the operator's memory;
+// bad values and a model without a linearisation are refused naming file, line and key, exit 2.
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -91,17 +91,35 @@ TEST_CASE("far_field reports the exact fraction in history.csv, summary.json and
   CHECK(c.output.find("fraction of its points exact after the timed steps") != std::string::npos);
 }
 
+TEST_CASE("a corotated far_field is reported as such and keeps the plate linear", "[far_field]") {
+  const auto dir = fresh_dir("ff-corotated");
+  const std::string text = with_key("far_field: {tolerance: 1e-3, corotated: true}");
+  const CommandResult r = run_case(text, dir);
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const auto s = read_json(dir / "out" / "summary.json");
+  const auto& ff = s["bodies"][0]["far_field"];
+  CHECK(ff["corotated"] == true);
+  CHECK(ff["exact_fraction"].get<double>() > 0);
+  CHECK(ff["exact_fraction"].get<double>() < 1);
+  const CommandResult c = run_ckpd("check " + write_file(dir / "check.yaml", text) + " --steps 0");
+  INFO(c.output);
+  CHECK(c.output.find("corotated (shape tensors and rotations") != std::string::npos);
+}
+
 TEST_CASE("a bad far_field is refused with file, line and key", "[far_field]") {
   struct Row {
     const char* key;
     const char* where;
     const char* says;
   };
-  for (const Row& row : {Row{"far_field: {tolerance: -1e-3}", "bodies[0].far_field.tolerance", ""},
-                         Row{"far_field: {tolerance: small}", "bodies[0].far_field.tolerance", ""},
-                         Row{"far_field: 1e-3", "bodies[0].far_field", "{tolerance: T}"},
-                         Row{"far_field: {tolerance: 1e-3, tol: 2}", "tol", ""},
-                         Row{"far_field: {}", "tolerance", ""}}) {
+  for (const Row& row :
+       {Row{"far_field: {tolerance: -1e-3}", "bodies[0].far_field.tolerance", ""},
+        Row{"far_field: {tolerance: small}", "bodies[0].far_field.tolerance", ""},
+        Row{"far_field: 1e-3", "bodies[0].far_field", "{tolerance: T, corotated"},
+        Row{"far_field: {tolerance: 1e-3, corotated: maybe}", "bodies[0].far_field.corotated", ""},
+        Row{"far_field: {tolerance: 1e-3, tol: 2}", "tol", ""},
+        Row{"far_field: {}", "tolerance", ""}}) {
     const auto dir = fresh_dir("ff-bad");
     const CommandResult r = run_case(with_key(row.key), dir);
     INFO(row.key << ": " << r.output);

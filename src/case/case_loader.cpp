@@ -222,16 +222,19 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
       force_form_node->fail("'own_family' or 'energy_consistent'");
     def.force_form = force_form_from_string(form);
   }
-  // far_field: {tolerance: T}: points whose family is undamaged and whose bond vectors change by
-  // less than T L take the linear operator's force (bodies/far_field.hpp); T = 0: off.
+  // far_field: {tolerance: T, corotated: B}: points whose family is undamaged and whose bond
+  // vectors change by less than T L (corotated: once the family's rotation is taken out) take
+  // the linear operator's force (bodies/far_field.hpp); T = 0: off.
   std::optional<CaseNode> far_field_node = n.optional("far_field");
   double far_tolerance = 0;
+  bool far_corotated = false;
   if (far_field_node) {
     if (!far_field_node->is_map())
       far_field_node->fail(
-          "a map {tolerance: T} (T >= 0, the largest relative bond-vector change "
-          "of a linear point; 0: off)");
+          "a map {tolerance: T, corotated: true|false} (T >= 0, the largest relative bond-vector "
+          "change of a linear point; 0: off)");
     far_tolerance = far_field_node->required("tolerance").as_non_negative();
+    if (auto c = far_field_node->optional("corotated")) far_corotated = c->as_bool();
     far_field_node->finish();
   }
   // lattice_stencil: false keeps the general kernel path on a lattice body (comparisons).
@@ -290,7 +293,8 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
   }
   if (far_tolerance > 0) {
     try {
-      sb.far_field = std::make_shared<FarField>(make_far_field(sb.body, far_tolerance));
+      sb.far_field =
+          std::make_shared<FarField>(make_far_field(sb.body, far_tolerance, far_corotated));
     } catch (const std::invalid_argument& e) {
       far_field_node->fail(std::string("a body whose force model has a linearisation (") +
                            e.what() + ")");

@@ -160,8 +160,17 @@ int check(const CheckOptions& opt) {
       std::cout << "    far field: tolerance " << sb.far_field->tolerance << ", linear operator "
                 << megabytes_text(static_cast<double>(sb.far_field->op.bytes()) / 1e6) << " ("
                 << sb.far_field->op.classes << " row classes for " << b.size()
-                << " points, one 3 x 3 block per family member and class), "
-                << "exact at set-up: " << sb.far_field->exact_count << " of " << b.size()
+                << " points, one 3 x 3 block per family member and class), ";
+      if (sb.far_field->corotated) {
+        const double rotations = static_cast<double>((sb.far_field->shape_inverse.size() +
+                                                      sb.far_field->rotation.size()) *
+                                                     sizeof(Eigen::Matrix3d)) /
+                                 1e6;
+        megabytes += rotations;
+        std::cout << "corotated (shape tensors and rotations " << megabytes_text(rotations)
+                  << "), ";
+      }
+      std::cout << "exact at set-up: " << sb.far_field->exact_count << " of " << b.size()
                 << " points\n";
     }
     if (sb.mesh) print_mesh(*sb.mesh, b);

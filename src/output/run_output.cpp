@@ -151,6 +151,7 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
          {"largest_fragments", sizes}});
     if (sb.far_field)
       bodies.back()["far_field"] = {{"tolerance", sb.far_field->tolerance},
+                                    {"corotated", sb.far_field->corotated},
                                     {"exact_fraction", sb.far_field->exact_fraction()},
                                     {"operator_bytes", sb.far_field->op.bytes()},
                                     {"operator_row_classes", sb.far_field->op.classes}};
