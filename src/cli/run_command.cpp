@@ -148,39 +148,37 @@ nlohmann::ordered_json decomposition_json(const Scene& scene, const Decompositio
                         {"halo_points", s.ghosts},
                         {"halo_bytes_per_step", halo_bytes_per_step(s.ghosts)}});
   }
+  const bool distributed = refusal.empty();
   nlohmann::ordered_json j{
       {"method", "recursive coordinate bisection of the deformable points by interaction work"}};
-  if (refusal.empty()) {
-    j["state"] =
-        "distributed: each rank holds the points it owns and their halo (the members of its "
-        "points' families that other ranks own) and evaluates the sets centred at its points";
-    j["exchange"] =
-        "every step the owners send their ghosts' displacements and velocities (6 doubles a "
-        "ghost) and the ranks send the forces their sets put on ghosts back to the owners (3 "
-        "doubles a ghost, 4 in a step with energy), which add them in rank order";
-    j["imbalance"] = d.imbalance();
-    j["per_rank"] = per_rank;
+  j["state"] = distributed
+                   ? "distributed: each rank holds the points it owns and their halo (the members "
+                     "of its points' families that other ranks own) and evaluates the sets "
+                     "centred at its points"
+                   : "replicated: every rank holds and integrates the whole scene; each rank "
+                     "evaluates the sets centred at its own points (distributed memory does not "
+                     "take this scene: " +
+                         refusal + ")";
+  j["exchange"] =
+      distributed
+          ? "every step the owners send their ghosts' displacements and velocities (6 doubles a "
+            "ghost) and the ranks send the forces their sets put on ghosts back to the owners (3 "
+            "doubles a ghost, 4 in a step with energy), which add them in rank order"
+          : "every step each rank sends its whole partial force buffer (3 doubles per point of "
+            "each deformable body; with energy 1 more per point) to every other rank "
+            "(MPI_Allgather), and the buffers are added in rank order";
+  j["imbalance"] = d.imbalance();
+  j["per_rank"] = per_rank;
+  if (distributed) {
     j["halo_points_all_ranks"] = ghosts;
     j["halo_bytes_per_step_all_ranks"] = halo_bytes_per_step(ghosts);
     j["halo_bytes_per_energy_step_all_ranks"] = halo_bytes_per_step(ghosts, true);
-    return j;
+  } else {
+    const std::size_t sent = shared_force_values(scene, false) * sizeof(double);
+    j["sent_bytes_per_rank_per_step"] = sent;
+    j["sent_bytes_per_rank_energy_step"] = shared_force_values(scene, true) * sizeof(double);
+    j["received_bytes_per_rank_per_step"] = sent * (d.share.size() - 1);
   }
-  const std::size_t sent = shared_force_values(scene, false) * sizeof(double);
-  const std::size_t sent_energy = shared_force_values(scene, true) * sizeof(double);
-  const std::size_t others = d.share.size() - 1;
-  j["state"] =
-      "replicated: every rank holds and integrates the whole scene; each rank evaluates the sets "
-      "centred at its own points (distributed memory does not take this scene: " +
-      refusal + ")";
-  j["exchange"] =
-      "every step each rank sends its whole partial force buffer (3 doubles per point of each "
-      "deformable body; with energy 1 more per point) to every other rank (MPI_Allgather), and "
-      "the buffers are added in rank order";
-  j["imbalance"] = d.imbalance();
-  j["per_rank"] = per_rank;
-  j["sent_bytes_per_rank_per_step"] = sent;
-  j["sent_bytes_per_rank_energy_step"] = sent_energy;
-  j["received_bytes_per_rank_per_step"] = sent * others;
   return j;
 }
 
