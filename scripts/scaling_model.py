@@ -39,6 +39,9 @@ KW_LO = (0.0, -0.0995625, -0.0045)
 KW_HI = (0.099, 0.0995625, 0.0045)
 KW_SPACING = 0.001125
 KW_RATIO = 3.015  # horizon_ratio: the horizon is 3.015 spacings at every resolution
+# Bytes a ghost costs a step on distributed memory: 6 doubles of state in, 3 of force back
+# (src/engine/distribution.hpp halo_bytes_per_step).
+HALO_BYTES = 72.0
 
 
 _CENSUS = {}  # census of one family cut, by (horizon^2, sets counted, canonical cut)
@@ -356,12 +359,14 @@ def model(d, machine, per_work, redundant):
     work_max = float(d.work.max())
     compute, repeated, messages = replicated_time(m, p, work_max, n, per_work, redundant)
     replicated = compute + repeated + messages + collectives
-    # Halo exchange: the halo's positions in and the forces on it back (24 + 24 bytes a ghost),
-    # two messages per neighbour rank, packed and unpacked at the core's copy speed; the node's
-    # off-node halo through its link. Bond failure and integration over owned + halo points.
+    # Halo exchange as src/engine/distribution.cpp sends it: the ghosts' displacements and
+    # velocities in and the forces on them back (48 + 24 bytes a ghost: HALO_BYTES), two messages
+    # per neighbour rank, packed and unpacked at the core's copy speed; the node's off-node halo
+    # through its link. Bond failure and integration over owned + halo points.
     held = d.points + d.ghosts
-    node_off = 48.0 * np.bincount(np.arange(n) // ppn, weights=d.off_node).max()
-    exchange = (2 * int(d.neighbours.max()) * m.latency_s + 2 * 48.0 * float(d.ghosts.max()) / copy
+    node_off = HALO_BYTES * np.bincount(np.arange(n) // ppn, weights=d.off_node).max()
+    exchange = (2 * int(d.neighbours.max()) * m.latency_s
+                + 2 * HALO_BYTES * float(d.ghosts.max()) / copy
                 + (node_off / (m.link_gb_s * 1e9) if nodes > 1 else 0.0))
     halo_time = compute + redundant * float(held.max()) + exchange + collectives
     return {
