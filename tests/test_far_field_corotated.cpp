@@ -140,9 +140,9 @@ TEST_CASE(
     deform(body, Eigen::Matrix3d::Identity(), 1e-3, strain(body.dimension));
     const double scale = kernel_comparison::max_norm(exact_force(body));
     REQUIRE(scale > 0);
-    for (const double angle : {1e-3, 0.5, 2.5}) {
+    for (const double angle : {1e-3, 2.5}) {
       deform(body, rotation(body.dimension, angle), 0.0, strain(body.dimension));
-      for (int threads : {1, 2}) {
+      for (int threads = 1; threads <= (angle > 1 ? 2 : 1); ++threads) {
         omp_set_num_threads(threads);
         INFO(label(rs) << ", angle " << angle << " rad, " << threads << " threads");
         ckpd::FarField corotated = ckpd::make_far_field(body, 1e-6, true);
