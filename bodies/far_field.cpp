@@ -72,9 +72,8 @@ double corotated_screen(const Body& body, FarField& ff, std::size_t i) {
   double worst = 0;
   for (std::size_t k = offset[i]; k < offset[i + 1]; ++k) {
     const std::uint32_t j = nb[k];
-    const Vec3 dX = body.reference_position[j] - Xi;
-    const Vec3 d = Rt * (body.displacement[j] - ui) + Qt * dX;
-    worst = std::max(worst, d.squaredNorm() / dX.squaredNorm());
+    const double L2 = (body.reference_position[j] - Xi).squaredNorm();
+    worst = std::max(worst, corotated_relative(body, Rt, Qt, i, j).squaredNorm() / L2);
   }
   return worst;
 }

@@ -60,15 +60,6 @@ Vec3 row_product(const LinearOperator& op, const Body& body, std::size_t i) {
     sum += row[slot] * body.displacement[body.family.neighbour[k]];
   return sum;
 }
-
-// Point i's corotated relative displacement towards j, R^T dx^ij - dX^ij, as
-// R^T (u^j - u^i) + (R^T - I) dX^ij (Rt = R^T, Qt = R^T - I): without a rotation it is u^j - u^i
-// bit for bit, not the difference of two nearly equal bond vectors.
-Vec3 corotated_relative(const Body& body, const Eigen::Matrix3d& Rt, const Eigen::Matrix3d& Qt,
-                        std::size_t i, std::size_t j) {
-  return Rt * (body.displacement[j] - body.displacement[i]) +
-         Qt * (body.reference_position[j] - body.reference_position[i]);
-}
 }  // namespace
 
 double linear_energy_density(const LinearOperator& op, const Body& body, std::size_t i) {

@@ -64,6 +64,14 @@ void apply_linear_operator_rows_corotated(const LinearOperator& op, const Body& 
 // a strain energy density (J/m^3) that a rigid translation leaves at zero. Summed with the
 // volumes over all points it is the quadratic energy exactly (THEORY.md section 11b).
 double linear_energy_density(const LinearOperator& op, const Body& body, std::size_t i);
+// Point i's corotated relative displacement towards j, R^T dx^ij - dX^ij, as
+// R^T (u^j - u^i) + (R^T - I) dX^ij (Rt = R^T, Qt = R^T - I): without a rotation it is u^j - u^i
+// bit for bit, not the difference of two nearly equal bond vectors.
+inline Vec3 corotated_relative(const Body& body, const Eigen::Matrix3d& Rt,
+                               const Eigen::Matrix3d& Qt, std::size_t i, std::size_t j) {
+  return Rt * (body.displacement[j] - body.displacement[i]) +
+         Qt * (body.reference_position[j] - body.reference_position[i]);
+}
 // The same of the corotated relative displacements d^ij = R^T dx^ij - dX^ij.
 double linear_energy_density_corotated(const LinearOperator& op, const Body& body, std::size_t i,
                                        const Eigen::Matrix3d& R);

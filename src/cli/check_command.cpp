@@ -82,11 +82,8 @@ void print_decomposition(const Scene& scene, int ranks) {
   }
   const Decomposition d = decompose(bodies, rigid, ranks);
   double total = 0;
-  std::uint64_t ghosts = 0;
-  for (const RankShare& r : d.share) {
-    total += r.work;
-    ghosts += r.ghosts;
-  }
+  for (const RankShare& r : d.share) total += r.work;
+  const std::uint64_t ghosts = d.ghosts();
   const std::string refusal = distribution_refusal(scene);
   std::cout << "decomposition over " << ranks
             << " ranks (recursive coordinate bisection by interaction work): imbalance "

@@ -135,11 +135,8 @@ nlohmann::ordered_json decomposition_json(const Scene& scene, const Decompositio
                                           const std::string& refusal) {
   nlohmann::ordered_json per_rank = nlohmann::ordered_json::array();
   double total = 0;
-  std::uint64_t ghosts = 0;
-  for (const RankShare& s : d.share) {
-    total += s.work;
-    ghosts += s.ghosts;
-  }
+  for (const RankShare& s : d.share) total += s.work;
+  const std::uint64_t ghosts = d.ghosts();
   for (std::size_t r = 0; r < d.share.size(); ++r) {
     const RankShare& s = d.share[r];
     per_rank.push_back({{"rank", r},
@@ -245,8 +242,7 @@ int run(const RunOptions& opt) {
             << " threads, points shared by recursive coordinate bisection (imbalance "
             << decomposition.imbalance() << "); ";
       if (refusal.empty()) {
-        std::uint64_t ghosts = 0;
-        for (const RankShare& r : decomposition.share) ghosts += r.ghosts;
+        const std::uint64_t ghosts = decomposition.ghosts();
         setup << "distributed memory: each rank holds its points and their halo, " << ghosts
               << " halo points, " << format_bytes(halo_bytes_per_step(ghosts))
               << " of halo messages per step in all\n";

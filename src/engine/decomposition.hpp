@@ -40,6 +40,12 @@ struct Decomposition {
   std::vector<RankShare> share;  // per rank
   // The largest rank's work over the mean: 1 is a perfect balance.
   double imbalance() const;
+  // Halo points over all ranks.
+  std::uint64_t ghosts() const {
+    std::uint64_t total = 0;
+    for (const RankShare& s : share) total += s.ghosts;
+    return total;
+  }
 };
 
 // Decomposes the deformable bodies among `bodies` (those with bonds or a force model; `rigid[b]`

@@ -39,7 +39,7 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
     if (o.writes_fields()) fields_.emplace(out, o.fields, resume_);
   }
   // A distributed run: rank 0's whole scene holds every rank's state for the output.
-  sim_.gather_whole();
+  gather();
   if (resume_ < 0 && history_) history_->write_row(sim_);
   if (resume_ < 0) row_step_ = sim_.step();
   if (fields_ && (resume_ < 0 || fields_->frames() == 0)) fields_->write_frame(sim_);
@@ -59,6 +59,12 @@ bool RunDriver::frame_due(long long step, double time) const {
   if (o.field_interval > 0) return step % o.field_interval == 0;
   return time >= static_cast<double>(fields_->frames()) * o.field_time_interval -
                      1e-9 * sim_.step_choice().dt;
+}
+
+void RunDriver::gather() {
+  if (gathered_step_ == sim_.step()) return;
+  sim_.gather_whole();
+  gathered_step_ = sim_.step();
 }
 
 void RunDriver::report_inversion() {
@@ -89,7 +95,7 @@ void RunDriver::step(bool with_energy) {
   const long long every = sim_.scene().output.checkpoint_interval;
   const bool checkpoint = every > 0 && sim_.step() % every == 0;
   // Every rank knows what is due: in a distributed run all take part in the gather.
-  if (row || frame || checkpoint) sim_.gather_whole();
+  if (row || frame || checkpoint) gather();
   if (row) {
     if (history_) history_->write_row(sim_);
     row_step_ = sim_.step();
@@ -104,7 +110,7 @@ void RunDriver::write_checkpoint() {
   // On every rank (the gather of a distributed run is a collective); rank 0 writes.
   if (checkpoint_step_ == sim_.step()) return;
   checkpoint_step_ = sim_.step();
-  sim_.gather_whole();
+  gather();
   if (!options_.out.empty()) ckpd::write_checkpoint(checkpoint_path(), sim_);
 }
 
@@ -131,7 +137,10 @@ void RunDriver::stop(const std::string& status, const std::string& message) {
   // strain energy of the row before against this step's kinetic energy and work.
   const bool refresh = row_step_ != sim_.step() && ranks::from_root(history_.has_value());
   if (refresh) sim_.refresh_strain_energy();  // a collective in an MPI run
-  sim_.gather_whole();                        // the last row's and the summary's bodies
+  // The last row's and the summary's bodies, gathered again: a step that threw may have moved
+  // them without counting, and a refresh gives new strain energy densities.
+  gathered_step_ = -1;
+  gather();
   if (refresh && history_) history_->write_row(sim_);
   row_step_ = sim_.step();
   if (!options_.out.empty()) write_json(options_.out + "/summary.json", summary(status, message));

@@ -62,6 +62,9 @@ class RunDriver {
 
  private:
   bool frame_due(long long step, double time) const;
+  // Rank 0's whole scene made current for the output (a distributed run's gather, a collective),
+  // once per step: a checkpoint after a row or frame of the same step does not gather again.
+  void gather();
   void report_inversion();
 
   Simulation& sim_;
@@ -75,6 +78,7 @@ class RunDriver {
   ProgressReporter progress_;
   long long row_step_ = -1;         // the step of the last history row
   long long checkpoint_step_ = -1;  // the step of the last checkpoint
+  long long gathered_step_ = -1;    // the step whose state the whole scene holds
   bool inversion_reported_ = false;
 };
 
