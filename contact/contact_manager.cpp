@@ -146,6 +146,18 @@ void ContactManager::restore_history(const HistoryState& s) {
     throw std::invalid_argument("contact history for pairs that have none in this case");
 }
 
+void ContactManager::carry_statistics(const ContactStatistics& earlier) {
+  stats_.rebuilds += earlier.rebuilds;
+  stats_.pairs_checked += earlier.pairs_checked;
+  stats_.points_binned += earlier.points_binned;
+  stats_.point_pair_tests += earlier.point_pair_tests;
+  stats_.candidate_pairs_peak = std::max(stats_.candidate_pairs_peak, earlier.candidate_pairs_peak);
+  stats_.points_in_contact_peak =
+      std::max(stats_.points_in_contact_peak, earlier.points_in_contact_peak);
+  stats_.touching_pairs_peak = std::max(stats_.touching_pairs_peak, earlier.touching_pairs_peak);
+  stats_.seconds += earlier.seconds;
+}
+
 void ContactManager::rebind(const std::vector<PointSet>& points) {
   if (points.size() != bodies_.size())
     throw std::invalid_argument("contact: rebind with a different number of bodies");
@@ -260,9 +272,12 @@ void ContactManager::index_targets() {
   }
   for (std::size_t k = 0; k < all_pairs_.size(); ++k) {
     const Pair& p = *all_pairs_[k];
-    for (int s = 0; s < (p.self ? 1 : 2); ++s)
+    for (int s = 0; s < (p.self ? 1 : 2); ++s) {
+      const PointSet& side = bodies_[p.body[s]].points;
       for (std::uint32_t i : p.members[s])
-        entries.emplace_back(p.body[s], i, static_cast<std::uint32_t>(2 * k + s));
+        if (side.computes(i))  // another's point is a partner only, never a target
+          entries.emplace_back(p.body[s], i, static_cast<std::uint32_t>(2 * k + s));
+    }
   }
   std::sort(entries.begin(), entries.end());
   targets_.clear();
@@ -445,7 +460,7 @@ void ContactManager::add_forces(double dt) {
   energy_ = 0;
   std::uint64_t contacts = 0;
   for (std::size_t t = 0; t < targets_.size(); ++t) {
-    energy_ += target_energy_[t];
+    if (bodies_[targets_[t].body].points.books(targets_[t].point)) energy_ += target_energy_[t];
     contacts += target_contacts_[t];
     stats_.point_pair_tests += target_tests_[t];
   }

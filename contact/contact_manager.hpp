@@ -82,6 +82,9 @@ class ContactManager {
   HistoryState history() const;
   void restore_history(const HistoryState& state);
   const ContactStatistics& statistics() const { return stats_; }
+  // Adds an earlier manager's counts and peaks to this one's (a manager that takes over from
+  // another with new views: src/engine/contact_ghosts.hpp).
+  void carry_statistics(const ContactStatistics& earlier);
   // Whether any pair of distinct bodies can interact (else no broad phase exists).
   bool has_broad_phase() const { return broad_ != nullptr; }
 

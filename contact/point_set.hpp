@@ -2,7 +2,8 @@
 // What contact sees of a body: a set of points with their state, not the body. The engine builds
 // one view per body (src/engine/contact_coupling.hpp) before every contact evaluation, since the
 // arrays behind the spans may be reallocated between steps (a checkpoint restore replaces them);
-// MPI decomposition will hand contact its owned plus ghost points through the same view.
+// on distributed memory a rank hands contact its owned points and their contact ghosts through
+// the same view (`computed` marks the owned ones).
 //
 // Positions are kept as reference + displacement (x = X + u, the sum every part of the code
 // forms the same way, so results stay bit for bit those of the body's own current_position); the
@@ -50,6 +51,13 @@ struct PointSet {
   // A rigid body's points move together: the mass a contact law meets is the body's (infinite
   // for an imposed motion). 0: each point's own rho V^i.
   double rigid_mass = 0;
+  // Points whose own contact force (and energy share) this process computes, 1 each; the others
+  // are partners only (a distributed run's contact ghosts: src/engine/contact_ghosts.hpp). Empty:
+  // every point.
+  std::span<const std::uint8_t> computed;
+  // Of the computed points, those whose energy share this process books (empty: all of them): a
+  // rigid body that every rank holds and computes whole is booked by one rank.
+  std::span<const std::uint8_t> booked;
 
   std::size_t size() const { return reference.size(); }
   Vec3 position(std::size_t i) const { return reference[i] + displacement[i]; }
@@ -58,6 +66,8 @@ struct PointSet {
   Vec3 velocity_at(std::size_t i, const Vec3& p) const {
     return spins ? Vec3(velocity[i] + angular_velocity.cross(p - position(i))) : velocity[i];
   }
+  bool computes(std::size_t i) const { return computed.empty() || computed[i] != 0; }
+  bool books(std::size_t i) const { return booked.empty() ? computes(i) : booked[i] != 0; }
   bool bonded(std::uint32_t i, std::uint32_t j) const {
     return bonds.test != nullptr && bonds.test(bonds.context, i, j);
   }

@@ -1,10 +1,12 @@
 // The contact manager on raw arrays, through the point-set view alone (no body is built): forces
 // and energy against an all-pairs sum of MODEL.md section 5, self-contact through the view's
-// bond query, and the same bits on one and two threads with every loop parallel.
+// bond query, the same bits on one and two threads with every loop parallel, and a view cut to
+// some points with only some computed (a distributed rank's owned points and contact ghosts).
 #include <omp.h>
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <memory>
 #include <random>
 #include <set>
 #include <utility>
@@ -171,4 +173,112 @@ TEST_CASE("contact on raw arrays gives the same bits on one and two threads, loo
   }
   omp_set_num_threads(before);
   for (int s = 0; s < 3; ++s) REQUIRE(result[0][s] == result[1][s]);
+}
+
+namespace {
+
+// A view of `from` cut to the points `keep` (increasing), computed where `computed` says: what a
+// rank hands contact on distributed memory (its owned points and its contact ghosts).
+struct CutPoints {
+  RawPoints points;
+  std::vector<std::uint8_t> computed;
+  CutPoints(const RawPoints& from, const std::vector<std::uint32_t>& keep,
+            const std::vector<std::uint8_t>& computed_of_from)
+      : points(from) {
+    points.reference.clear();
+    points.displacement.clear();
+    points.velocity.clear();
+    points.force.clear();
+    points.volume.clear();
+    points.bonds.clear();
+    std::vector<std::int64_t> at(from.reference.size(), -1);
+    for (std::uint32_t i : keep) {
+      at[i] = static_cast<std::int64_t>(points.reference.size());
+      points.reference.push_back(from.reference[i]);
+      points.displacement.push_back(from.displacement[i]);
+      points.velocity.push_back(from.velocity[i]);
+      points.force.push_back(Vec3::Zero());
+      points.volume.push_back(from.volume[i]);
+      computed.push_back(computed_of_from[i]);
+    }
+    for (const auto& [i, j] : from.bonds)
+      if (at[i] >= 0 && at[j] >= 0)
+        points.bonds.insert({static_cast<std::uint32_t>(at[i]), static_cast<std::uint32_t>(at[j])});
+  }
+  PointSet view(const char* name) {
+    PointSet p = points.view(name);
+    p.computed = computed;
+    return p;
+  }
+};
+
+}  // namespace
+
+TEST_CASE(
+    "points outside `computed` are partners only: a cut view gives the computed points the "
+    "whole view's forces bit for bit and the energies of two halves add up",
+    "[contact][point_set]") {
+  const int before = omp_get_max_threads();
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    const ScopedParallelThresholds every_loop_parallel(threads == 2 ? 0 : 1000000);
+    Blocks whole;
+    ContactManager all(whole.bodies(), settings(true));
+    all.add_forces();
+    const RawPoints* sets[] = {&whole.a, &whole.b, &whole.c};
+    // Two "ranks" split space at y = 2.2 mm; each keeps its own points and every point of the
+    // others within l_c + 1 mm of one of them (more than the contact reach), in index order.
+    double energy = 0;
+    for (int side = 0; side < 2; ++side) {
+      std::vector<std::unique_ptr<CutPoints>> cut;
+      std::vector<std::size_t> computed_count(3, 0), cut_size(3, 0);
+      for (int s = 0; s < 3; ++s) {
+        const RawPoints& from = *sets[s];
+        std::vector<std::uint8_t> mine(from.reference.size());
+        for (std::size_t i = 0; i < mine.size(); ++i)
+          mine[i] = (from.x(i).y() < 2.2e-3) == (side == 0) ? 1 : 0;
+        std::vector<std::uint32_t> keep;
+        for (std::uint32_t i = 0; i < from.reference.size(); ++i) {
+          bool near = mine[i] != 0;
+          for (int t = 0; t < 3 && !near; ++t)
+            for (std::size_t j = 0; j < sets[t]->reference.size() && !near; ++j) {
+              const bool theirs_mine = (sets[t]->x(j).y() < 2.2e-3) == (side == 0);
+              near = theirs_mine && (sets[t]->x(j) - from.x(i)).norm() < kLc + 1e-3;
+            }
+          if (near) keep.push_back(i);
+        }
+        cut.push_back(std::make_unique<CutPoints>(from, keep, mine));
+        cut_size[s] = keep.size();
+        for (std::uint32_t i : keep) computed_count[s] += mine[i];
+      }
+      // The cut must leave points out, and hold points it does not compute.
+      REQUIRE(cut_size[0] < whole.a.reference.size());
+      REQUIRE(cut_size[0] > computed_count[0]);
+      std::vector<ContactBody> bodies(3);
+      bodies[0].points = cut[0]->view("a");
+      bodies[1].points = cut[1]->view("b");
+      bodies[2].points = cut[2]->view("c");
+      ContactManager part(bodies, settings(true));
+      part.add_forces();
+      energy += part.energy();
+      for (int s = 0; s < 3; ++s) {
+        const RawPoints& from = *sets[s];
+        std::size_t k = 0;
+        for (std::uint32_t i = 0; i < from.reference.size(); ++i) {
+          if (k == cut[s]->points.reference.size() ||
+              cut[s]->points.reference[k] != from.reference[i])
+            continue;
+          if (cut[s]->computed[k])
+            REQUIRE(cut[s]->points.force[k] == from.force[i]);  // the same bits
+          else
+            REQUIRE(cut[s]->points.force[k].isZero());  // a partner only
+          ++k;
+        }
+        REQUIRE(k == cut[s]->points.reference.size());
+      }
+    }
+    CHECK(energy == Approx(all.energy()).epsilon(1e-13));
+    CHECK(all.energy() > 0);
+  }
+  omp_set_num_threads(before);
 }

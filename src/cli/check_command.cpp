@@ -93,6 +93,10 @@ void print_decomposition(const Scene& scene, int ranks) {
     std::cout << "  distributed memory: each rank holds its points and their halo; per step "
               << format_bytes(halo_bytes_per_step(ghosts)) << " of halo messages in all ("
               << format_bytes(halo_bytes_per_step(ghosts, true)) << " in a step with energy)\n";
+    if (has_contact_work(scene))
+      std::cout << "  contact on distributed memory: each rank takes as contact ghosts the points "
+                   "other ranks own within l_c + skin of its own, chosen during the run from the "
+                   "current positions (48 bytes a ghost per step; summary.json counts them)\n";
   } else {
     std::size_t sent = 0;
     for (const SceneBody& sb : scene.bodies)

@@ -13,9 +13,14 @@ namespace ckpd {
 
 namespace {
 
-// Families are sorted by neighbour index: a binary search over i's row.
 bool intact_bond(const void* context, std::uint32_t i, std::uint32_t j) {
-  const Body& body = *static_cast<const Body*>(context);
+  return joined_by_intact_bond(*static_cast<const Body*>(context), i, j);
+}
+
+}  // namespace
+
+// Families are sorted by neighbour index: a binary search over i's row.
+bool joined_by_intact_bond(const Body& body, std::uint32_t i, std::uint32_t j) {
   const auto begin = body.family.neighbour.begin();
   const auto first = begin + static_cast<std::ptrdiff_t>(body.family.offset[i]);
   const auto last = begin + static_cast<std::ptrdiff_t>(body.family.offset[i + 1]);
@@ -27,8 +32,6 @@ ContactBody contact_body(const SceneBody& sb, PointSet points) {
   return {points, sb.rigid.has_value(), sb.rigid.has_value() && sb.rigid->prescribed(),
           sb.wall.get(), sb.elastic};
 }
-
-}  // namespace
 
 PointSet point_set(const SceneBody& sb) {
   const Body& body = sb.body;
@@ -112,15 +115,18 @@ std::string contact_law_report(const Scene& scene) {
   return s.str();
 }
 
+bool has_contact_work(const Scene& scene) {
+  if (!scene.contact.present) return false;
+  const std::vector<ContactBody> bodies = contact_bodies(scene);
+  for (std::size_t a = 0; a < bodies.size(); ++a)
+    for (std::size_t b = a; b < bodies.size(); ++b)
+      if (scene.contact.law(bodies, a, b)) return true;
+  return false;
+}
+
 std::unique_ptr<ContactManager> make_contact_manager(Scene& scene) {
-  if (!scene.contact.present) return nullptr;
-  std::vector<ContactBody> bodies = contact_bodies(scene);
-  bool any = false;
-  for (std::size_t a = 0; a < bodies.size() && !any; ++a)
-    for (std::size_t b = a; b < bodies.size() && !any; ++b)
-      any = scene.contact.law(bodies, a, b).has_value();
-  if (!any) return nullptr;
-  return std::make_unique<ContactManager>(std::move(bodies), scene.contact);
+  if (!has_contact_work(scene)) return nullptr;
+  return std::make_unique<ContactManager>(contact_bodies(scene), scene.contact);
 }
 
 std::vector<double> contact_stiffness_bounds(const Scene& scene) {

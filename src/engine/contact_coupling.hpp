@@ -18,6 +18,11 @@ PointSet point_set(SceneBody& body);
 // bounds).
 PointSet point_set(const SceneBody& body);
 
+// The body's contact role (rigid, prescribed, mesh wall, elastic) with `points` as its points.
+ContactBody contact_body(const SceneBody& body, PointSet points);
+// Whether points i and j of `body` are joined by an intact bond (BondQuery's test of a body).
+bool joined_by_intact_bond(const Body& body, std::uint32_t i, std::uint32_t j);
+
 // Writable views of every body, in scene order.
 std::vector<ContactBody> contact_bodies(Scene& scene);
 // Read-only views (no force_density): enough for ContactSettings::law and the stiffness bounds.
@@ -27,6 +32,8 @@ std::vector<ContactBody> contact_bodies(const Scene& scene);
 std::vector<PointSet> contact_point_sets(Scene& scene);
 void contact_point_sets(Scene& scene, std::vector<PointSet>& points);
 
+// Whether any pair of the scene's bodies (a body with itself included) has a contact law.
+bool has_contact_work(const Scene& scene);
 // Null when the scene has no contact work to do: one body without self-contact, or no pair of
 // bodies with a contact law.
 std::unique_ptr<ContactManager> make_contact_manager(Scene& scene);

@@ -8,6 +8,7 @@
 #include "bodies/damage.hpp"
 #include "bodies/state_based_model.hpp"
 #include "bodies/sub_body.hpp"
+#include "src/engine/contact_coupling.hpp"
 #include "src/engine/ranks.hpp"
 
 namespace ckpd {
@@ -25,18 +26,39 @@ void put(std::vector<unsigned char>& bytes, const double* values, std::size_t co
   std::memcpy(bytes.data() + at, values, count * sizeof(double));
 }
 
+// A rigid body's state, from one whole copy to another.
+void copy_rigid_body(const SceneBody& from, SceneBody& to) {
+  Body& b = to.body;
+  b.displacement = from.body.displacement;
+  b.velocity = from.body.velocity;
+  b.acceleration = from.body.acceleration;
+  b.force_density = from.body.force_density;
+  b.external_force_density = from.body.external_force_density;
+  b.strain_energy_density = from.body.strain_energy_density;
+  to.rigid->restore(from.rigid->state());
+}
+
 }  // namespace
 
 std::string distribution_refusal(const Scene& scene) {
-  if (scene.contact.present) return "the scene has contact";
   if (scene.time.adaptive_step) return "time.step_mode is adaptive";
   for (const SceneBody& sb : scene.bodies) {
     const std::string who = "body '" + sb.body.name + "' ";
-    if (sb.rigid || sb.wall) return who + "is rigid";
+    if (sb.wall) return who + "is a mesh wall";
     if (sb.far_field) return who + "has a far field";
     if (sb.body.model == &state_based_kernels()) return who + "is a state-based solid";
     if (stiffens_in_compression(sb.body))
       return who + "has a strain measure that stiffens in compression (m <= 0)";
+  }
+  // Contact between deformable bodies is taken with the seed law (contact_ghosts.hpp).
+  if (scene.contact.present) {
+    const std::vector<ContactBody> bodies = contact_bodies(scene);
+    for (std::size_t a = 0; a < bodies.size(); ++a)
+      for (std::size_t b = a; b < bodies.size(); ++b)
+        if (const std::optional<PairLaw> law = scene.contact.law(bodies, a, b); law && law->dem)
+          return "the contact of bodies '" + std::string(bodies[a].points.name) + "' and '" +
+                 std::string(bodies[b].points.name) + "' has the DEM law " + law->name +
+                 " (its springs and dissipation are not distributed)";
   }
   return {};
 }
@@ -52,8 +74,12 @@ DistributedScene distribute_scene(Scene& whole, int rank, int ranks) {
   d.ranks_ = ranks;
   d.step_choice_ = choose_time_step(whole);
   std::vector<const Body*> bodies;
-  for (const SceneBody& sb : whole.bodies) bodies.push_back(&sb.body);
-  d.decomposition_ = decompose(bodies, std::vector<bool>(bodies.size(), false), ranks);
+  std::vector<bool> rigid;
+  for (const SceneBody& sb : whole.bodies) {
+    bodies.push_back(&sb.body);
+    rigid.push_back(sb.rigid.has_value());
+  }
+  d.decomposition_ = decompose(bodies, rigid, ranks);
   Scene& local = out.local;
   local.case_file = whole.case_file;
   local.fingerprint = whole.fingerprint;
@@ -65,6 +91,27 @@ DistributedScene distribute_scene(Scene& whole, int rank, int ranks) {
     SceneBody& w = whole.bodies[b];
     DistributedBody db;
     db.whole_points = w.body.size();
+    if (w.rigid) {
+      // Whole on every rank; its points are every rank's to move, rank 0's to book.
+      db.replicated = true;
+      db.links.points.resize(w.body.size());
+      for (std::size_t i = 0; i < w.body.size(); ++i)
+        db.links.points[i] = static_cast<std::uint32_t>(i);
+      db.links.owned.assign(w.body.size(), 1);
+      d.initially_failed_.push_back(0);
+      SceneBody l;
+      l.body = w.body;
+      if (rank != 0) l.body.booked_points.assign(w.body.size(), 0);
+      l.spacing = w.spacing;
+      l.rigid = w.rigid;
+      l.mesh = w.mesh;
+      l.elastic = w.elastic;
+      l.conditions = std::move(w.conditions);
+      w.conditions.clear();
+      local.bodies.push_back(std::move(l));
+      d.bodies_.push_back(std::move(db));
+      continue;
+    }
     db.links = halo_links(w.body, d.decomposition_.owner[b], rank, ranks);
     if (rank == 0) db.owner = d.decomposition_.owner[b];
     // omega_max dx bounds the fastest wave a lattice carries (Simulation's speed limit).
@@ -93,6 +140,7 @@ DistributedScene distribute_scene(Scene& whole, int rank, int ranks) {
 void Distribution::exchange_state(Scene& local) {
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
     DistributedBody& db = bodies_[b];
+    if (db.replicated) continue;
     Body& body = local.bodies[b].body;
     pack_state(db.links, body, db.buffers);
     ranks::exchange(db.buffers.send, db.buffers.receive);
@@ -103,6 +151,7 @@ void Distribution::exchange_state(Scene& local) {
 void Distribution::sum_forces(Scene& local, bool with_energy) {
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
     DistributedBody& db = bodies_[b];
+    if (db.replicated) continue;
     Body& body = local.bodies[b].body;
     pack_ghost_forces(db.links, body, with_energy, db.buffers);
     ranks::exchange(db.buffers.send, db.buffers.receive);
@@ -156,6 +205,11 @@ void Distribution::gather(const Scene& local, Scene& whole) {
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
     const DistributedBody& db = bodies_[b];
     const Body& part = local.bodies[b].body;
+    if (db.replicated) {
+      // Every rank moved it alike: rank 0's copy is the body.
+      if (rank_ == 0) copy_rigid_body(local.bodies[b], whole.bodies[b]);
+      continue;
+    }
     bytes_.clear();
     for (std::size_t l = 0; l < part.size(); ++l) {
       if (!db.links.owned[l]) continue;
@@ -214,6 +268,10 @@ void Distribution::scatter(const Scene& whole, Scene& local) const {
     const std::vector<std::uint32_t>& global = bodies_[b].links.points;
     const Body& w = whole.bodies[b].body;
     Body& part = local.bodies[b].body;
+    if (bodies_[b].replicated) {
+      copy_rigid_body(whole.bodies[b], local.bodies[b]);
+      continue;
+    }
     if (w.size() != bodies_[b].whole_points || part.size() != global.size())
       throw std::logic_error("distributed scatter: body '" + w.name +
                              "' is not the one this rank's part was cut from");

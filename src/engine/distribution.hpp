@@ -8,9 +8,11 @@
 // summed over ranks in rank order, the same bits on every rank.
 //
 // The scenes it takes: deformable bodies with a symmetric-kernel model (the CKPD laws, the PMB
-// bond law) and their conditions, without contact, rigid bodies, mesh walls or a far field, with
-// a fixed step and a strain measure that does not stiffen in compression (distribution_refusal
-// names what is not taken; those scenes run on the replicated scheme of force_sharing.hpp).
+// bond law) and their conditions, rigid bodies (held whole by every rank), in contact under the
+// seed law (each rank's contact ghosts: contact_ghosts.hpp), without DEM contact laws, mesh walls
+// or a far field, with a fixed step and a strain measure that does not stiffen in compression
+// (distribution_refusal names what is not taken; those scenes run on the replicated scheme of
+// force_sharing.hpp).
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -37,6 +39,9 @@ std::string distribution_refusal(const Scene& scene);
 struct DistributedScene;
 
 struct DistributedBody {
+  // A rigid body is not cut: every rank holds it whole and moves it identically from the same
+  // forces (its contact forces are computed on every rank, contact_ghosts.hpp); rank 0 books it.
+  bool replicated = false;
   HaloLinks links;  // links.points: each local point's index in the whole body; links.owned
   HaloBuffers buffers;
   std::size_t whole_points = 0;

@@ -14,6 +14,7 @@
 #include "bodies/state_based_model.hpp"
 #include "bodies/symmetric_kernel.hpp"
 #include "src/engine/contact_coupling.hpp"
+#include "src/engine/contact_ghosts.hpp"
 #include "src/engine/distribution.hpp"
 #include "src/engine/force_sharing.hpp"
 
@@ -253,7 +254,10 @@ Simulation::Simulation(Scene& scene, std::unique_ptr<Distribution> distribution)
     contact_radius_[p.b] = std::min(contact_radius_[p.b], p.radius);
   }
   inverted_.assign(scene_.bodies.size(), 0);
-  contact_ = make_contact_manager(scene_);
+  if (!distribution_)
+    contact_ = make_contact_manager(scene_);
+  else if (has_contact_work(scene_))
+    contact_ghosts_ = std::make_unique<ContactGhosts>(scene_, *distribution_);
   taken_dt_ = step_choice_.dt;
   evaluate_forces(true);
   if (distribution_) reduce_books(true);
@@ -332,7 +336,8 @@ void Simulation::evaluate_forces(bool with_energy) {
   for (std::size_t k : large) own_forces(k);
   if (distribution_) {
     distribution_->sum_forces(scene_, with_energy);
-    for (std::size_t k = 0; k < bodies; ++k) add_loads_and_energy(k);
+    for (std::size_t k = 0; k < bodies; ++k)
+      if (!scene_.bodies[k].rigid) add_loads_and_energy(k);  // a rigid body has its loads
   } else if (shared_force_values(scene_, with_energy) > 0) {
     sum_shared_forces(scene_, with_energy, inverted_, sharing_);
     for (std::size_t k = 0; k < bodies; ++k)
@@ -352,11 +357,14 @@ void Simulation::evaluate_forces(bool with_energy) {
   body_force_seconds_ +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // Contact couples the bodies: it runs once all of them are at the new positions.
+  // The springs advance over the step just taken; the first evaluation follows none.
+  const double contact_dt = step_ > 0 ? (adaptive() ? taken_dt_ : step_choice_.dt) : 0.0;
   if (contact_) {
     contact_point_sets(scene_, point_sets_);
     contact_->rebind(point_sets_);
-    // The springs advance over the step just taken; the first evaluation follows none.
-    contact_->add_forces(step_ > 0 ? (adaptive() ? taken_dt_ : step_choice_.dt) : 0.0);
+    contact_->add_forces(contact_dt);
+  } else if (contact_ghosts_) {
+    contact_ghosts_->add_forces(contact_dt);
   }
   for (SceneBody& sb : scene_.bodies) {
     Body& b = sb.body;
@@ -560,7 +568,9 @@ void Simulation::advance(bool with_energy) {
 void Simulation::reduce_books(bool with_energy) {
   const std::size_t bodies = scene_.bodies.size();
   std::vector<double>& v = book_values_;
-  v.assign({external_work_, dissipated_, strain_energy_, kinetic_energy()});
+  const double contact = contact_ghosts_ ? contact_ghosts_->manager().energy() : 0.0;
+  v.assign({external_work_, dissipated_, strain_energy_, kinetic_energy(), contact});
+  const std::size_t failed_at = v.size(), inverted_at = failed_at + bodies;
   for (std::size_t k = 0; k < bodies; ++k) v.push_back(static_cast<double>(failed_[k]));
   for (std::size_t k = 0; k < bodies; ++k) v.push_back(static_cast<double>(inverted_[k]));
   // The largest damage of this rank's booked points: a max over ranks, not a sum.
@@ -569,18 +579,23 @@ void Simulation::reduce_books(bool with_energy) {
     if (sb.body.damage_enabled) damage = std::max(damage, max_point_damage(sb.body));
   const std::size_t summed = v.size();
   v.push_back(damage);
+  v.push_back(contact_ghosts_ ? static_cast<double>(contact_ghosts_->ghosts()) : 0.0);
   distribution_->sum_and_max(v, summed);  // the counts are integers below 2^53: summed exactly
   books_.max_damage = v[summed];
+  books_.contact_ghosts_peak =
+      std::max(books_.contact_ghosts_peak, static_cast<std::uint64_t>(v[summed + 1]));
   books_.external_work = v[0];
   books_.dissipated = v[1];
   books_.kinetic = v[3];
+  books_.contact = v[4];
   books_.failed.resize(bodies);
-  for (std::size_t k = 0; k < bodies; ++k) books_.failed[k] = static_cast<std::size_t>(v[4 + k]);
+  for (std::size_t k = 0; k < bodies; ++k)
+    books_.failed[k] = static_cast<std::size_t>(v[failed_at + k]);
   if (!with_energy) return;
   books_.strain = v[2];
   books_.inverted.resize(bodies);
   for (std::size_t k = 0; k < bodies; ++k)
-    books_.inverted[k] = static_cast<std::uint64_t>(v[4 + bodies + k]);
+    books_.inverted[k] = static_cast<std::uint64_t>(v[inverted_at + k]);
   max_inverted_ = std::max(max_inverted_, inverted());
   for (std::size_t k = 0; k < bodies && first_inversion_.step < 0; ++k)
     if (books_.inverted[k] > 0)
@@ -778,6 +793,7 @@ void Simulation::restore(const Counters& c) {
   strain_energy_ = c.strain_energy;
   initial_total_ = c.initial_total;
   initially_failed_ = c.initially_failed;
+  if (contact_ghosts_) contact_ghosts_->invalidate();  // chosen at the state before the restart
   if (distribution_) {
     // The sums over ranks start from rank 0's share; the bodies' flags are restored already.
     if (distribution_->rank() != 0) external_work_ = dissipated_ = strain_energy_ = 0;
@@ -836,16 +852,33 @@ double Simulation::kinetic_energy() const {
   return kinetic;
 }
 
+const ContactManager* Simulation::contact() const {
+  return contact_ghosts_ ? &contact_ghosts_->manager() : contact_.get();
+}
+
+std::uint64_t Simulation::contact_ghost_selections() const {
+  return contact_ghosts_ ? contact_ghosts_->selections() : 0;
+}
+
+void Simulation::restore_contact(const ContactManager::HistoryState& state) {
+  if (contact_ghosts_)
+    contact_ghosts_->restore_history(state);
+  else
+    contact_->restore_history(state);
+}
+
 Energies Simulation::energies() const {
   Energies e;
   e.kinetic = distribution_ ? books_.kinetic : kinetic_energy();
   e.strain = distribution_ ? books_.strain : strain_energy_;
-  e.contact = contact_ ? contact_->energy() : 0.0;
+  const ContactManager* manager = contact();
+  e.contact = distribution_ ? books_.contact : manager ? manager->energy() : 0.0;
   e.external_work = distribution_ ? books_.external_work : external_work_;
   e.dissipated = distribution_ ? books_.dissipated : dissipated_;
-  if (contact_) {
-    e.contact_damping = contact_->damping_dissipated();
-    e.contact_friction = contact_->friction_dissipated();
+  // On distributed memory no law with dissipation is taken (distribution_refusal).
+  if (manager) {
+    e.contact_damping = manager->damping_dissipated();
+    e.contact_friction = manager->friction_dissipated();
   }
   e.balance_error = e.kinetic + e.strain + e.contact + e.dissipated + e.contact_damping +
                     e.contact_friction - e.external_work - initial_total_;

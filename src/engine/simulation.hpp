@@ -100,6 +100,7 @@ struct InversionRecord {
 bool stiffens_in_compression(const Body& b);
 
 class Distribution;
+class ContactGhosts;
 
 class Simulation {
  public:
@@ -179,7 +180,13 @@ class Simulation {
   double speed_limit() const { return speed_limit_; }
   const Scene& scene() const { return scene_; }
   // Null when the scene has no contact work (contact_coupling.hpp).
-  const ContactManager* contact() const { return contact_.get(); }
+  // The contact manager (on distributed memory: of this rank's owned points and their contact
+  // ghosts, src/engine/contact_ghosts.hpp); null without contact work.
+  const ContactManager* contact() const;
+  // On distributed memory: the contact ghosts' selections so far and the most ghosts a rank has
+  // held at a step (0 and 0 otherwise).
+  std::uint64_t contact_ghost_selections() const;
+  std::uint64_t contact_ghosts_peak() const { return books_.contact_ghosts_peak; }
   // The run's own counters, for checkpoints: restoring them together with every body's state
   // continues the run bit for bit.
   struct Counters {
@@ -195,9 +202,7 @@ class Simulation {
   Counters counters() const;
   void restore(const Counters& counters);
   // The contact manager's springs and dissipation, for checkpoints (call when contact() is set).
-  void restore_contact(const ContactManager::HistoryState& state) {
-    contact_->restore_history(state);
-  }
+  void restore_contact(const ContactManager::HistoryState& state);
   Scene& scene() { return scene_; }
   // Wall time spent in the bodies' own forces (internal and external), for the contact benchmark.
   double body_force_seconds() const { return body_force_seconds_; }
@@ -254,6 +259,7 @@ class Simulation {
   // Per body: the smallest l_c of the contact pairs it is in (+inf: none).
   std::vector<double> contact_radius_;
   std::unique_ptr<ContactManager> contact_;
+  std::unique_ptr<ContactGhosts> contact_ghosts_;  // distributed memory's contact instead
   double body_force_seconds_ = 0;
   double stable_step_seconds_ = 0;
   // Adaptive step: the next step, the one just taken, and the statistics (see smallest_step()).
@@ -275,6 +281,8 @@ class Simulation {
   std::unique_ptr<Distribution> distribution_;
   struct Books {
     double external_work = 0, dissipated = 0, strain = 0, kinetic = 0, max_damage = 0;
+    double contact = 0;  // contact energy, summed over the ranks' owned points
+    std::uint64_t contact_ghosts_peak = 0;
     std::vector<std::uint64_t> inverted;
     std::vector<std::size_t> failed;
   } books_;

@@ -70,6 +70,14 @@ nlohmann::ordered_json contact_summary(const Simulation& sim) {
                       {"friction", n.friction},
                       {"damping_ratio", n.damping_ratio}});
     j["laws"] = laws;
+    if (sim.distribution()) {
+      // Distributed memory (src/engine/contact_ghosts.hpp): the statistics above are rank 0's.
+      j["statistics_of"] = "rank 0 (its owned points and their contact ghosts)";
+      j["contact_ghost_selections"] = sim.contact_ghost_selections();
+      j["contact_ghosts_most_on_a_rank"] = sim.contact_ghosts_peak();
+      j["contact_ghost_bytes_per_step_most_on_a_rank"] =
+          sim.contact_ghosts_peak() * 6 * sizeof(double);
+    }
     j["damping_dissipated"] = contact->damping_dissipated();
     j["friction_dissipated"] = contact->friction_dissipated();
   }

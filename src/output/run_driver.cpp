@@ -21,23 +21,32 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
       progress_(options_.progress, sim.planned_steps()) {
   const OutputSettings& o = sim_.scene().output;
   interval_ = o.history_interval > 0 ? o.history_interval : std::max<long long>(1, total_ / 200);
+  std::string failure;
   if (!options_.out.empty()) {
-    const std::string& out = options_.out;
-    std::error_code ec;
-    std::filesystem::create_directories(out, ec);
-    if (ec || !std::filesystem::is_directory(out))
-      throw std::runtime_error(out + ": cannot create the output directory");
-    log_.emplace(out + "/run.log", resume_ >= 0);
-    for (const std::string& line : options_.log_header) log_->write(line);
-    if (resume_ >= 0)
-      log_->write("restarted from " + options_.restarted_from + " at step " +
-                  std::to_string(resume_));
-    progress_.set_log([this](const std::string& line) { log_->write(line); });
-    history_.emplace(out + "/history.csv", resume_, o.history, sim_.has_far_field());
-    // Summaries of earlier runs in this folder must not pass for this one's.
-    std::filesystem::remove(out + "/summary.json", ec);
-    if (o.writes_fields()) fields_.emplace(out, o.fields, resume_);
+    try {
+      const std::string& out = options_.out;
+      std::error_code ec;
+      std::filesystem::create_directories(out, ec);
+      if (ec || !std::filesystem::is_directory(out))
+        throw std::runtime_error(out + ": cannot create the output directory");
+      log_.emplace(out + "/run.log", resume_ >= 0);
+      for (const std::string& line : options_.log_header) log_->write(line);
+      if (resume_ >= 0)
+        log_->write("restarted from " + options_.restarted_from + " at step " +
+                    std::to_string(resume_));
+      progress_.set_log([this](const std::string& line) { log_->write(line); });
+      history_.emplace(out + "/history.csv", resume_, o.history, sim_.has_far_field());
+      // Summaries of earlier runs in this folder must not pass for this one's.
+      std::filesystem::remove(out + "/summary.json", ec);
+      if (o.writes_fields()) fields_.emplace(out, o.fields, resume_);
+    } catch (const std::runtime_error& e) {
+      failure = e.what();
+    }
   }
+  // Only rank 0 writes: the other ranks learn of its failure here, before the gather below would
+  // wait for it (the caller prints rank 0's message once).
+  if (ranks::any(!failure.empty()))
+    throw std::runtime_error(failure.empty() ? "rank 0 could not prepare the output" : failure);
   // A distributed run: rank 0's whole scene holds every rank's state for the output.
   gather();
   if (resume_ < 0 && history_) history_->write_row(sim_);

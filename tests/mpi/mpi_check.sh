@@ -30,6 +30,19 @@ print(f"{sys.argv[1]}: {state.split(':')[0]}")
 sys.exit(0 if state.startswith(sys.argv[2] + ":") else 1)
 PY
 }
+# A distributed run with contact must have chosen its contact ghosts again during the run (the
+# bodies moved past the skin), so that the comparison covers a change of ghosts.
+ghosts_chosen_again() {
+  $python - "$1/summary.json" <<'PY'
+import json, sys
+c = json.load(open(sys.argv[1]))["contact"]
+if "contact_ghost_selections" not in c:
+    sys.exit(0)  # replicated state, or no contact
+print(f"{sys.argv[1]}: contact ghosts chosen {c['contact_ghost_selections']} times, "
+      f"at most {c['contact_ghosts_most_on_a_rank']} on a rank")
+sys.exit(0 if c["contact_ghost_selections"] >= 2 and c["contact_ghosts_most_on_a_rank"] > 0 else 1)
+PY
+}
 rm -rf "$work"
 mkdir -p "$work"
 case $what in
@@ -40,6 +53,8 @@ equivalence)
   grep -q '"ranks": 3' "$work/np3/summary.json"
   ran_on "$work/np2"
   ran_on "$work/np3"
+  ghosts_chosen_again "$work/np2"
+  ghosts_chosen_again "$work/np3"
   $python "$src/tests/mpi/compare_runs.py" "$work/np1" "$work/np2" "$work/np3"
   ;;
 restart)
