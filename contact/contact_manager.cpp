@@ -467,9 +467,11 @@ void ContactManager::add_forces(double dt) {
   if (dem_) {
     double damping = 0;
     for (std::size_t t = 0; t < targets_.size(); ++t) {
-      damping += target_dem_[t].damping;
-      friction_dissipated_ += target_dem_[t].friction;
       const PointSet& points = bodies_[targets_[t].body].points;
+      if (points.books(targets_[t].point)) {  // another process books it (see energy_ above)
+        damping += target_dem_[t].damping;
+        friction_dissipated_ += target_dem_[t].friction;
+      }
       if (points.couple)
         *points.couple += target_dem_[t].couple;
       else if (has_clusters(points) && target_dem_[t].couple != Vec3::Zero())

@@ -50,6 +50,8 @@ namespace {
 // over the smallest and the largest point of x against the largest of y.
 double dem_bound(const DemLaw& law, double radius, const PointSet& x, const PointSet* y,
                  double partners) {
+  // A set without points (a rank's empty part of a body) feels nothing.
+  if (x.volume.empty() || (y && y->volume.empty())) return 0;
   auto extremes = [](const PointSet& s) {
     const auto [lo, hi] = std::minmax_element(s.volume.begin(), s.volume.end());
     return std::pair<double, double>(*lo, *hi);

@@ -100,6 +100,7 @@ void MeshWallContact::add_forces(double dt, std::uint64_t evaluation) {
     point_energy_.assign(n, 0.0);
 #pragma omp parallel for schedule(dynamic, 256) if (n > parallel_thresholds().contact_work)
     for (std::size_t i = 0; i < n; ++i) {
+      if (!body.computes(i)) continue;  // a partner of other points only
       const Vec3 X = back * (body.position(i) - pose.centre) + c0;
       const auto hit = wall.nearest(X, p.radius);
       if (!hit) continue;
@@ -120,15 +121,18 @@ void MeshWallContact::book(std::size_t k, const MeshWall::Pose& pose, double dt)
   std::size_t touching = 0;
   for (std::size_t i = 0; i < body.size(); ++i) {
     if (point_energy_[i] == 0 && force_[i].isZero()) continue;
-    ++touching;
     body.force_density[i] += force_[i];
+    if (dem && body.couple) *body.couple += couple_[i];
+    // A point another process books (a rigid body every rank computes) leaves the reaction,
+    // energy and dissipation to that process: the processes' reactions add up to the whole.
+    if (!body.books(i)) continue;
+    ++touching;
     const Vec3 f = -body.volume[i] * force_[i];
     reaction += f;
     // The seed law's reaction acts through the point, a DEM law's at the contact point.
     torque += ((dem ? at_[i] : body.position(i)) - pose.centre).cross(f);
     energy_ += point_energy_[i];
     if (!dem) continue;
-    if (body.couple) *body.couple += couple_[i];
     damping_ += dt * point_damping_[i];
     friction_ += point_slip_[i];
   }
@@ -159,6 +163,7 @@ void MeshWallContact::add_dem_forces(std::size_t k, double dt, std::uint64_t eva
   constexpr double kWallMass = std::numeric_limits<double>::infinity();
 #pragma omp parallel for schedule(dynamic, 256) if (n > parallel_thresholds().contact_work)
   for (std::size_t i = 0; i < n; ++i) {
+    if (!body.computes(i)) continue;
     const Vec3 x = body.position(i);
     const auto hit = wall.nearest(back * (x - pose.centre) + c0, p.radius);
     if (!hit) continue;

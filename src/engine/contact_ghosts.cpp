@@ -60,6 +60,7 @@ std::size_t ContactGhosts::ghosts() const {
 bool ContactGhosts::drifted() const {
   const double limit2 = drift_limit_ * drift_limit_;
   for (std::size_t b = 0; b < views_.size(); ++b) {
+    if (local_.bodies[b].wall) continue;  // no ghosts depend on a wall's motion
     const Body& part = local_.bodies[b].body;
     const std::vector<std::uint8_t>& owned = distribution_.body(b).links.owned;
     for (std::size_t l = 0; l < part.size(); ++l)
@@ -80,6 +81,8 @@ void ContactGhosts::select() {
   for (std::size_t b = 0; b < views_.size(); ++b) {
     const Body& part = local_.bodies[b].body;
     const bool rigid = distribution_.body(b).replicated;
+    // A mesh wall meets each point alone (its surface is every rank's): no ghosts for it.
+    if (rigid && local_.bodies[b].wall) continue;
     if (rigid) rigid_boxes.emplace_back(Vec3::Constant(inf), Vec3::Constant(-inf));
     Vec3& box_lo = rigid ? rigid_boxes.back().first : lo;
     Vec3& box_hi = rigid ? rigid_boxes.back().second : hi;
@@ -280,6 +283,7 @@ void ContactGhosts::add_forces(double dt) {
     refresh();
   for (View& view : views_) std::fill(view.force.begin(), view.force.end(), Vec3::Zero());
   manager_->add_forces(dt);
+  sum_wall_reactions();
   for (std::size_t b = 0; b < views_.size(); ++b) {
     const View& view = views_[b];
     Body& part = local_.bodies[b].body;
@@ -287,6 +291,25 @@ void ContactGhosts::add_forces(double dt) {
       if (view.owned[v])
         part.force_density[static_cast<std::size_t>(view.local[v])] += view.force[v];
   }
+}
+
+void ContactGhosts::sum_wall_reactions() {
+  // Each rank spread the reactions of the points it books to the walls' carriers; the carriers'
+  // forces are their sums over ranks, in rank order (the same bits on every rank).
+  wall_forces_.clear();
+  for (std::size_t b = 0; b < views_.size(); ++b)
+    if (local_.bodies[b].wall)
+      for (const Vec3& f : views_[b].force)
+        wall_forces_.insert(wall_forces_.end(), {f.x(), f.y(), f.z()});
+  if (wall_forces_.empty()) return;
+  ranks::sum_in_rank_order(wall_forces_, gathered_);
+  std::size_t at = 0;
+  for (std::size_t b = 0; b < views_.size(); ++b)
+    if (local_.bodies[b].wall)
+      for (Vec3& f : views_[b].force) {
+        f = Vec3(wall_forces_[at], wall_forces_[at + 1], wall_forces_[at + 2]);
+        at += 3;
+      }
 }
 
 void ContactGhosts::restore_history(const ContactManager::HistoryState& state) {

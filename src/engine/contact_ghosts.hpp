@@ -26,9 +26,20 @@
 // rigid body's box to every rank), so every rank moves the rigid body alike, with the single
 // process's forces; rank 0 alone books their energy share (PointSet::booked).
 //
-// Taken: deformable and rigid bodies under the seed law (contact_law.hpp); DEM laws (their springs
-// and dissipation) and mesh walls are refused by distribution_refusal and run on the replicated
-// scheme.
+// Mesh walls are rigid bodies too, but a wall meets each point alone: a rank computes its owned
+// points' wall forces and spreads the reactions of the points it books to the wall's carriers,
+// and the carriers' forces are summed over ranks in rank order (so a free wall moves alike on
+// every rank, within round-off of the single process, whose sum runs in point order).
+//
+// DEM laws without friction: each end of a pair computes the same contact from the same state
+// (contact_manager.hpp), so an owned point's force is again the single process's; the dashpots'
+// dissipation is booked by the points' owners (rank 0 for rigid bodies) and summed over ranks by
+// the Simulation.
+//
+// Taken: deformable and rigid bodies and mesh walls under the seed law (contact_law.hpp) and DEM
+// laws without friction; friction is refused by distribution_refusal (its tangential springs are
+// written by one end of a pair and read by the other, and its couples go to the point's cluster,
+// which may be another rank's), and such scenes run on the replicated scheme.
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -65,6 +76,7 @@ class ContactGhosts {
   void select();
   void refresh();
   bool drifted() const;
+  void sum_wall_reactions();
 
   Scene& local_;
   const Distribution& distribution_;
@@ -75,7 +87,7 @@ class ContactGhosts {
   // received from there go, as (body, view index); both in the order of the messages.
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> send_, receive_;
   std::vector<std::vector<double>> send_buffer_, receive_buffer_;
-  std::vector<double> gathered_;
+  std::vector<double> gathered_, wall_forces_;
   bool valid_ = false;
   std::uint64_t selections_ = 0;
 };

@@ -44,21 +44,21 @@ std::string distribution_refusal(const Scene& scene) {
   if (scene.time.adaptive_step) return "time.step_mode is adaptive";
   for (const SceneBody& sb : scene.bodies) {
     const std::string who = "body '" + sb.body.name + "' ";
-    if (sb.wall) return who + "is a mesh wall";
     if (sb.far_field) return who + "has a far field";
     if (sb.body.model == &state_based_kernels()) return who + "is a state-based solid";
     if (stiffens_in_compression(sb.body))
       return who + "has a strain measure that stiffens in compression (m <= 0)";
   }
-  // Contact between deformable bodies is taken with the seed law (contact_ghosts.hpp).
+  // Contact is taken under the seed law and DEM laws without friction (contact_ghosts.hpp).
   if (scene.contact.present) {
     const std::vector<ContactBody> bodies = contact_bodies(scene);
     for (std::size_t a = 0; a < bodies.size(); ++a)
       for (std::size_t b = a; b < bodies.size(); ++b)
-        if (const std::optional<PairLaw> law = scene.contact.law(bodies, a, b); law && law->dem)
+        if (const std::optional<PairLaw> law = scene.contact.law(bodies, a, b);
+            law && law->dem && law->dem->friction > 0)
           return "the contact of bodies '" + std::string(bodies[a].points.name) + "' and '" +
-                 std::string(bodies[b].points.name) + "' has the DEM law " + law->name +
-                 " (its springs and dissipation are not distributed)";
+                 std::string(bodies[b].points.name) + "' has friction (the DEM law " + law->name +
+                 "'s tangential springs are not distributed)";
   }
   return {};
 }
@@ -73,6 +73,7 @@ DistributedScene distribute_scene(Scene& whole, int rank, int ranks) {
   d.rank_ = rank;
   d.ranks_ = ranks;
   d.step_choice_ = choose_time_step(whole);
+  d.contact_stiffness_ = contact_stiffness_bounds(whole);
   std::vector<const Body*> bodies;
   std::vector<bool> rigid;
   for (const SceneBody& sb : whole.bodies) {
@@ -104,6 +105,8 @@ DistributedScene distribute_scene(Scene& whole, int rank, int ranks) {
       if (rank != 0) l.body.booked_points.assign(w.body.size(), 0);
       l.spacing = w.spacing;
       l.rigid = w.rigid;
+      l.wall = w.wall;
+      l.wall_surface = w.wall_surface;
       l.mesh = w.mesh;
       l.elastic = w.elastic;
       l.conditions = std::move(w.conditions);

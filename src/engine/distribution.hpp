@@ -8,11 +8,11 @@
 // summed over ranks in rank order, the same bits on every rank.
 //
 // The scenes it takes: deformable bodies with a symmetric-kernel model (the CKPD laws, the PMB
-// bond law) and their conditions, rigid bodies (held whole by every rank), in contact under the
-// seed law (each rank's contact ghosts: contact_ghosts.hpp), without DEM contact laws, mesh walls
-// or a far field, with a fixed step and a strain measure that does not stiffen in compression
-// (distribution_refusal names what is not taken; those scenes run on the replicated scheme of
-// force_sharing.hpp).
+// bond law) and their conditions, rigid bodies and mesh walls (held whole by every rank), in
+// contact under the seed law or a DEM law without friction (each rank's contact ghosts:
+// contact_ghosts.hpp), without friction or a far field, with a fixed step and a strain measure that
+// does not stiffen in compression (distribution_refusal names what is not taken; those scenes run
+// on the replicated scheme of force_sharing.hpp).
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -59,6 +59,8 @@ class Distribution {
   // the instability guard (m/s, before the factor 10), the pre-existing failed bonds per body.
   const StepChoice& step_choice() const { return step_choice_; }
   double wave_speed() const { return wave_speed_; }
+  // Per body, the contact stiffness bound of the whole scene (contact_coupling.hpp).
+  const std::vector<double>& contact_stiffness() const { return contact_stiffness_; }
   const std::vector<std::size_t>& initially_failed() const { return initially_failed_; }
 
   // Forward: the ghosts' displacements and velocities from their owners. A collective.
@@ -97,6 +99,7 @@ class Distribution {
   Decomposition decomposition_;
   StepChoice step_choice_;
   double wave_speed_ = 0;
+  std::vector<double> contact_stiffness_;
   std::vector<std::size_t> initially_failed_;
   std::vector<double> scratch_, proposal_;
   std::vector<unsigned char> bytes_, gathered_bytes_;

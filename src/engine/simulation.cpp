@@ -242,7 +242,9 @@ Simulation::Simulation(Scene& scene, std::unique_ptr<Distribution> distribution)
   // scene of rigid bodies at rest has neither (a block set down on a slope): no scale to judge
   // by, no limit.
   speed_limit_ = max_speed > 0 ? 10 * max_speed : std::numeric_limits<double>::infinity();
-  contact_stiffness_ = contact_stiffness_bounds(scene_);
+  // A part's bounds would see only its points (and none where the part of a body is empty).
+  contact_stiffness_ =
+      distribution_ ? distribution_->contact_stiffness() : contact_stiffness_bounds(scene_);
   for (const SceneBody& sb : scene_.bodies) {
     failed_.push_back(failed_bond_count(sb.body));
     initially_failed_.push_back(failed_.back());
@@ -568,8 +570,10 @@ void Simulation::advance(bool with_energy) {
 void Simulation::reduce_books(bool with_energy) {
   const std::size_t bodies = scene_.bodies.size();
   std::vector<double>& v = book_values_;
-  const double contact = contact_ghosts_ ? contact_ghosts_->manager().energy() : 0.0;
-  v.assign({external_work_, dissipated_, strain_energy_, kinetic_energy(), contact});
+  const ContactManager* manager = contact_ghosts_ ? &contact_ghosts_->manager() : nullptr;
+  v.assign({external_work_, dissipated_, strain_energy_, kinetic_energy(),
+            manager ? manager->energy() : 0.0, manager ? manager->damping_dissipated() : 0.0,
+            manager ? manager->friction_dissipated() : 0.0});
   const std::size_t failed_at = v.size(), inverted_at = failed_at + bodies;
   for (std::size_t k = 0; k < bodies; ++k) v.push_back(static_cast<double>(failed_[k]));
   for (std::size_t k = 0; k < bodies; ++k) v.push_back(static_cast<double>(inverted_[k]));
@@ -588,6 +592,8 @@ void Simulation::reduce_books(bool with_energy) {
   books_.dissipated = v[1];
   books_.kinetic = v[3];
   books_.contact = v[4];
+  books_.contact_damping = v[5];
+  books_.contact_friction = v[6];
   books_.failed.resize(bodies);
   for (std::size_t k = 0; k < bodies; ++k)
     books_.failed[k] = static_cast<std::size_t>(v[failed_at + k]);
@@ -861,10 +867,27 @@ std::uint64_t Simulation::contact_ghost_selections() const {
 }
 
 void Simulation::restore_contact(const ContactManager::HistoryState& state) {
-  if (contact_ghosts_)
-    contact_ghosts_->restore_history(state);
-  else
+  if (!contact_ghosts_) {
     contact_->restore_history(state);
+    return;
+  }
+  // The ranks' dissipation books start from rank 0's share, as the other books do (restore).
+  ContactManager::HistoryState mine = state;
+  if (distribution_->rank() != 0) mine.damping_dissipated = mine.friction_dissipated = 0;
+  contact_ghosts_->restore_history(mine);
+  books_.contact_damping = state.damping_dissipated;
+  books_.contact_friction = state.friction_dissipated;
+}
+
+ContactManager::HistoryState Simulation::contact_history() const {
+  const ContactManager* manager = contact();
+  if (!manager) return {};
+  ContactManager::HistoryState h = manager->history();
+  if (distribution_) {
+    h.damping_dissipated = books_.contact_damping;
+    h.friction_dissipated = books_.contact_friction;
+  }
+  return h;
 }
 
 Energies Simulation::energies() const {
@@ -875,8 +898,10 @@ Energies Simulation::energies() const {
   e.contact = distribution_ ? books_.contact : manager ? manager->energy() : 0.0;
   e.external_work = distribution_ ? books_.external_work : external_work_;
   e.dissipated = distribution_ ? books_.dissipated : dissipated_;
-  // On distributed memory no law with dissipation is taken (distribution_refusal).
-  if (manager) {
+  if (distribution_) {
+    e.contact_damping = books_.contact_damping;
+    e.contact_friction = books_.contact_friction;
+  } else if (manager) {
     e.contact_damping = manager->damping_dissipated();
     e.contact_friction = manager->friction_dissipated();
   }

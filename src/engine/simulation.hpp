@@ -203,6 +203,9 @@ class Simulation {
   void restore(const Counters& counters);
   // The contact manager's springs and dissipation, for checkpoints (call when contact() is set).
   void restore_contact(const ContactManager::HistoryState& state);
+  // What a checkpoint keeps of the contact (null manager: nothing); on distributed memory with
+  // the dissipation summed over the ranks.
+  ContactManager::HistoryState contact_history() const;
   Scene& scene() { return scene_; }
   // Wall time spent in the bodies' own forces (internal and external), for the contact benchmark.
   double body_force_seconds() const { return body_force_seconds_; }
@@ -282,6 +285,7 @@ class Simulation {
   struct Books {
     double external_work = 0, dissipated = 0, strain = 0, kinetic = 0, max_damage = 0;
     double contact = 0;  // contact energy, summed over the ranks' owned points
+    double contact_damping = 0, contact_friction = 0;  // dissipated by contact, summed likewise
     std::uint64_t contact_ghosts_peak = 0;
     std::vector<std::uint64_t> inverted;
     std::vector<std::size_t> failed;

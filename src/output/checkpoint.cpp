@@ -227,10 +227,10 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
         hash.bytes(packed, sizeof packed);
       }
     }
-    if (const ContactManager* contact = sim.contact()) {
+    if (sim.contact()) {
       // Evaluation count, dissipation and one row per spring: the pair's four indices (the
       // wall partner's point as -1) and the spring.
-      const ContactManager::HistoryState h = contact->history();
+      const ContactManager::HistoryState h = sim.contact_history();
       Handle group(H5Gcreate2(file, "contact", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
                    "create contact group");
       hdf5::write_int64_attribute(group, "evaluation", static_cast<long long>(h.evaluation));

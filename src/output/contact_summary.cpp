@@ -78,8 +78,9 @@ nlohmann::ordered_json contact_summary(const Simulation& sim) {
       j["contact_ghost_bytes_per_step_most_on_a_rank"] =
           sim.contact_ghosts_peak() * 6 * sizeof(double);
     }
-    j["damping_dissipated"] = contact->damping_dissipated();
-    j["friction_dissipated"] = contact->friction_dissipated();
+    const Energies e = sim.energies();  // on distributed memory the sums over ranks
+    j["damping_dissipated"] = e.contact_damping;
+    j["friction_dissipated"] = e.contact_friction;
   }
   j["body_force_seconds"] = sim.body_force_seconds();
   j["rigid_bodies"] = rigid_bodies(sim);
