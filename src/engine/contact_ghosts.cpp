@@ -43,6 +43,7 @@ ContactGhosts::ContactGhosts(Scene& local, const Distribution& distribution)
   reach_ = widest + skin;
   drift_limit_ = 0.5 * skin;
   views_.resize(local_.bodies.size());
+  points_.resize(views_.size());
   send_.resize(static_cast<std::size_t>(distribution_.ranks()));
   receive_.resize(send_.size());
   send_buffer_.resize(send_.size());
@@ -226,6 +227,7 @@ void ContactGhosts::select() {
     p.family_offset = {};
     p.family_neighbour = {};
     p.bond_intact = {};
+    points_[b] = p;
     bodies.push_back(contact_body(sb, p));
   }
   // A new manager for the new views, continuing the old one's evaluation count and statistics.
@@ -282,6 +284,11 @@ void ContactGhosts::add_forces(double dt) {
   else
     refresh();
   for (View& view : views_) std::fill(view.force.begin(), view.force.end(), Vec3::Zero());
+  // A rigid body's spin is the step's (a DEM contact's velocity at the contact point).
+  for (std::size_t b = 0; b < views_.size(); ++b)
+    if (const SceneBody& sb = local_.bodies[b]; sb.rigid)
+      points_[b].angular_velocity = sb.rigid->angular_velocity();
+  manager_->rebind(points_);
   manager_->add_forces(dt);
   sum_wall_reactions();
   for (std::size_t b = 0; b < views_.size(); ++b) {

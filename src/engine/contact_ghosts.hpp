@@ -82,6 +82,7 @@ class ContactGhosts {
   const Distribution& distribution_;
   double reach_ = 0, drift_limit_ = 0;
   std::vector<View> views_;
+  std::vector<PointSet> points_;  // the manager's views of them
   std::unique_ptr<ContactManager> manager_;
   // Per other rank: the owned points sent there, as (body, local index), and where the points
   // received from there go, as (body, view index); both in the order of the messages.
