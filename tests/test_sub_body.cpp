@@ -272,6 +272,67 @@ TEST_CASE("restrictions booking their own points add up to the whole body's book
       }
 }
 
+TEST_CASE("the fused bond-only kernel on restrictions fails, books and forces as on the whole body",
+          "[sub_body]") {
+  // A rank's restriction (owned_centres = booked_points = its points) of a bond-only body takes the
+  // fused kernel (symmetric/bond_only.hpp): its owned points' bonds fail inside the force pass,
+  // and the bonds from ghosts below them by ghost_bond_failures. The parts' flags of their points'
+  // families, failed counts, dissipated energy and partial forces must be the whole body's.
+  ThreadCountGuard guard;
+  for (const DamageRule rule : {DamageRule::all_edges, DamageRule::centre_bonds})
+    for (const int threads : {1, 2}) {
+      INFO("rule " << static_cast<int>(rule) << ", threads " << threads);
+      omp_set_num_threads(threads);
+      std::mt19937 rng(11);
+      const Scene s{"3D lattice, bonds only", 3, 0.25, 0.0, 8, 6, 5};
+      Body body = make(s, {ForceForm::own_family, rule, false}, rng);
+      body.critical_stretch = 0.02;
+      ckpd::update_bond_failure(body);
+      const std::size_t before = ckpd::failed_bond_count(body);
+      perturb(body, 0.03, rng);
+      std::uniform_real_distribution<double> speed(-1, 1);  // m/s: the booking's midpoint
+      for (Vec3& v : body.velocity) v = Vec3(speed(rng), speed(rng), speed(rng));
+      const std::vector<int> owner = owners(body, 3, true, rng);
+      std::vector<ckpd::BodyRestriction> parts;
+      for (int p = 0; p < 3; ++p) {
+        parts.push_back(part_restriction(body, owner, p));
+        parts.back().body.booked_points = parts.back().body.owned_centres;
+      }
+      const double half_drift = 1e-2;
+      ckpd::FailureUpdate whole;
+      ckpd::fail_bonds_and_compute_internal_force(body, true, half_drift, whole);
+      REQUIRE(whole.failed > 0);
+      REQUIRE(ckpd::failed_bond_count(body) == before + whole.failed);
+      std::vector<Vec3> force(body.size(), Vec3::Zero());
+      double dissipated = 0, largest = 0;
+      std::size_t failed = 0, differing = 0;
+      for (ckpd::BodyRestriction& r : parts) {
+        ckpd::FailureUpdate mine;
+        ckpd::fail_bonds_and_compute_internal_force(r.body, true, half_drift, mine);
+        failed += mine.failed;
+        dissipated += mine.dissipated;
+        for (std::size_t k = 0; k < r.global.size(); ++k) {
+          force[r.global[k]] += r.body.force_density[k];
+          if (!r.body.booked_points[k]) continue;
+          const std::size_t i = r.global[k];
+          std::size_t e = body.family.offset[i];
+          for (std::size_t l = r.body.family.offset[k]; l < r.body.family.offset[k + 1]; ++l) {
+            while (body.family.neighbour[e] != r.global[r.body.family.neighbour[l]]) ++e;
+            differing += r.body.bond_intact[l] != body.bond_intact[e];
+          }
+        }
+      }
+      CHECK(differing == 0);
+      CHECK(failed == whole.failed);
+      CHECK(std::abs(dissipated - whole.dissipated) <= 1e-12 * std::abs(whole.dissipated));
+      for (const Vec3& f : body.force_density) largest = std::max(largest, f.norm());
+      double worst = 0;
+      for (std::size_t i = 0; i < body.size(); ++i)
+        worst = std::max(worst, (force[i] - body.force_density[i]).norm());
+      CHECK(worst <= 1e-12 * largest);
+    }
+}
+
 TEST_CASE("restrict_body rejects points out of order or range", "[sub_body]") {
   std::mt19937 rng(1);
   const Scene s{"2D lattice", 2, 0.4, 0.0, 6, 6, 1};

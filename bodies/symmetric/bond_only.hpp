@@ -1,6 +1,7 @@
 #pragma once
 // Point i of the symmetric kernel for a body with bonds only (no two- or three-neighbour sets,
-// no lattice stencil, no far field, no rank share): its bonds {i, j}, j > i, straight from the
+// no lattice stencil, no far field, no replicated rank share): its bonds {i, j}, j > i, straight
+// from the
 // CSR row, with L and 1/L from the body's table (upper_bonds.hpp). Same arithmetic, in the same
 // order, as load_upper_family + bond_loop (+ bond_loop_conservative) and the flush of
 // process_point, so the forces and energies are those of the general path bit for bit; without
@@ -12,6 +13,13 @@
 // both ends and left out of the forces, and both ends are marked for the booking
 // (book_fused_failures), which sums the same per-row terms in the same order as
 // fail_bonds_only: same failed bonds, same dissipated energy, bit for bit.
+//
+// On a rank's restriction (bodies/sub_body.hpp: owned_centres = booked_points = the owned points)
+// the rank computes the bonds of its owned points' rows. A bond {g, o} from a ghost g < o to an
+// owned o is another rank's to compute, but o's flags must follow it (o's damage, its family in
+// the gather, self-contact), so ghost_bond_failures fails it here too, by the same test at the
+// same positions as g's owner does: the flags of every owned point's family are those of
+// fail_bonds_only on the restriction, which the separate pass gave before.
 #include <atomic>
 #include <cmath>
 
@@ -33,9 +41,43 @@ template <class Model>
 bool bond_only_path(const Context<Model>& ctx, const SymmetricKernelWorkspace& workspace) {
   const Body& body = *ctx.body;
   const bool sets = (Model::kTriangles && ctx.pairs) || (Model::kTetrahedra && ctx.triples);
+  // A replicated share (owned_centres without booked_points: every rank keeps every flag) needs
+  // the separate failure pass over all bonds; a restriction books its owned points only.
+  const bool share = !body.owned_centres.empty();
+  const bool restriction = share && body.booked_points == body.owned_centres;
   return !sets && ctx.stencil == nullptr && workspace.skip_centre == nullptr &&
-         workspace.exact_point == nullptr && body.owned_centres.empty() &&
+         workspace.exact_point == nullptr && (!share || restriction) &&
          body.upper_bonds != nullptr && body.upper_bonds->matches(body.family);
+}
+
+// A ghost i of a rank's restriction: its bonds to owned points above it that break now, failed
+// from both ends and marked for the booking, as bond_only_point<kFail> does for an owned i (no
+// forces: the ghost's owner computes them). `failed` counts them.
+template <class Model>
+inline void ghost_bond_failures(const Context<Model>& ctx, std::size_t i, const FusedFailure& fused,
+                                std::size_t& failed) {
+  const Body& body = *ctx.body;
+  const UpperBonds& table = *body.upper_bonds;
+  const std::size_t end = ctx.offset[i + 1];
+  for (std::size_t k = table.first[i]; k < end; ++k) {
+    const std::uint32_t j = ctx.neighbour[k];
+    if (!body.owned_centres[j] || !ctx.bond_intact(k)) continue;
+    if (!bond_failure_detail::breaks_now(ctx.model, body, fused.protect, i, k)) continue;
+    const std::uint32_t* row = ctx.neighbour + ctx.offset[j];
+    const std::size_t back =
+        ctx.offset[j] +
+        static_cast<std::size_t>(
+            std::lower_bound(row, ctx.neighbour + table.first[j], static_cast<std::uint32_t>(i)) -
+            row);
+    Body& mutable_body = const_cast<Body&>(body);
+    mutable_body.bond_intact[k] = 0;
+    mutable_body.bond_intact[back] = 0;
+    fused.failing[k] = 1;
+    fused.failing[back] = 1;
+    std::atomic_ref<std::uint8_t>(fused.touched[i]).store(1, std::memory_order_relaxed);
+    std::atomic_ref<std::uint8_t>(fused.touched[j]).store(1, std::memory_order_relaxed);
+    ++failed;
+  }
 }
 
 template <class Model, bool kEnergy, bool kFail>
@@ -159,6 +201,11 @@ double book_fused_failures(const Model& model, const Body& body, double half_dri
   for (std::size_t i = 0; i < n; ++i) {
     if (!fused.touched[i]) continue;
     fused.touched[i] = 0;
+    if (!body.books(i)) {  // a ghost of a restriction: its owner books its row
+      for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k)
+        fused.failing[k] = 0;
+      continue;
+    }
     dissipated +=
         bond_failure_detail::failing_row_energy(model, body, i, half_drift, [&](std::size_t k) {
           if (!fused.failing[k]) return false;

@@ -71,8 +71,9 @@ struct SymmetricKernelThread {
   unsigned tri_residues = 0;
 
   SymmetricKernelStats stats;
-  // Bonds this thread failed in a fused evaluation (bond_only.hpp).
-  std::size_t failed = 0;
+  // Bonds this thread failed in a fused evaluation (bond_only.hpp): those it counts (failed)
+  // and, on a rank's restriction, those from a ghost to an owned point (ghost_failed).
+  std::size_t failed = 0, ghost_failed = 0;
   // Each thread's scratch is a separate allocation, and the heap may place the next thread's
   // right after this one: two cache lines of padding keep the counters above, written at every
   // centre, off the lines that hold the next thread's vector pointers (false sharing; measured

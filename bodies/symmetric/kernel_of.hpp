@@ -85,17 +85,22 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
     const std::uint8_t* skip = workspace.skip_centre;  // the far field's linear centres
     auto all_points = [&]<bool kEnergy, bool kPenalty>() {
       if (bonds_only) {
-        std::size_t failed = 0;
+        std::size_t failed = 0, ghost_failed = 0;
         if (fuse) {
 #pragma omp for schedule(static, kChunk)
           for (std::size_t i = 0; i < n; ++i)
-            bond_only_point<Model, kEnergy, true>(ctx, i, th, fused, failed);
+            if (owned == nullptr || owned[i] != 0)
+              bond_only_point<Model, kEnergy, true>(ctx, i, th, fused, failed);
+            else
+              ghost_bond_failures<Model>(ctx, i, fused, ghost_failed);
         } else {
 #pragma omp for schedule(static, kChunk)
           for (std::size_t i = 0; i < n; ++i)
-            bond_only_point<Model, kEnergy, false>(ctx, i, th, fused, failed);
+            if (owned == nullptr || owned[i] != 0)
+              bond_only_point<Model, kEnergy, false>(ctx, i, th, fused, failed);
         }
         th.failed = failed;
+        th.ghost_failed = ghost_failed;
       } else if (ctx.stencil != nullptr) {
 #pragma omp for schedule(static, kChunk)
         for (std::size_t i = 0; i < n; ++i)
@@ -142,9 +147,12 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
     stats.inverted_tetrahedra += x.inverted_tetrahedra;
   }
   if (fuse) {
-    for (int s = 0; s < team; ++s)
+    std::size_t ghost_failed = 0;
+    for (int s = 0; s < team; ++s) {
       failure->failed += workspace.thread(static_cast<std::size_t>(s)).failed;
-    if (failure->failed > 0)
+      ghost_failed += workspace.thread(static_cast<std::size_t>(s)).ghost_failed;
+    }
+    if (failure->failed > 0 || ghost_failed > 0)
       failure->dissipated = book_fused_failures(ctx.model, body, half_drift, fused);
   }
   return stats;
