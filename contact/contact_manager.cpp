@@ -98,7 +98,8 @@ ContactManager::ContactManager(std::vector<ContactBody> bodies, ContactSettings 
   // build, so no two of their points come within l_c while each moves less than its drift limit.
   for (std::size_t b = 0; b < n; ++b) {
     drift_limit_[b] = margin_[b] - 0.5 * widest_radius[b];
-    if (member[b]) {
+    // A view without points (a distributed rank's empty share of a body) has no box to pair.
+    if (member[b] && bodies_[b].points.size() > 0) {
       members_.push_back(b);
       member_points_ += bodies_[b].points.size();
     }

@@ -282,3 +282,42 @@ TEST_CASE(
   }
   omp_set_num_threads(before);
 }
+
+TEST_CASE("a view without points takes no part in contact (a rank's empty share of a body)",
+          "[contact][point_set]") {
+  Blocks with, without;
+  ContactManager three(with.bodies(), settings(true));
+  three.add_forces();
+  // The same scene with the third body's view cut to no points: the first two bodies' forces
+  // are those of the scene without it.
+  RawPoints none = without.c;
+  none.reference.clear();
+  none.displacement.clear();
+  none.velocity.clear();
+  none.force.clear();
+  none.volume.clear();
+  std::vector<ContactBody> bodies(3);
+  bodies[0].points = without.a.view("a");
+  bodies[1].points = without.b.view("b");
+  bodies[2].points = none.view("c");
+  ContactManager cut(bodies, settings(true));
+  cut.add_forces();
+  std::vector<ContactBody> two(2);
+  Blocks alone;
+  two[0].points = alone.a.view("a");
+  two[1].points = alone.b.view("b");
+  ContactManager pair(two, settings(true));
+  pair.add_forces();
+  REQUIRE(without.a.force == alone.a.force);
+  REQUIRE(without.b.force == alone.b.force);
+  CHECK(cut.energy() == pair.energy());
+  CHECK(three.energy() > pair.energy());  // c touches a in the whole scene
+  // An empty view beside one body alone (at 3 ranks a 2D scene's rank held no point of one plate
+  // and FCL met an inverted box).
+  std::vector<ContactBody> lone(2);
+  lone[0].points = none.view("c");
+  lone[1].points = alone.a.view("a");
+  ContactManager beside(lone, settings(true));
+  beside.add_forces();
+  CHECK(beside.energy() >= 0);
+}
