@@ -66,6 +66,21 @@ std::vector<std::uint8_t> core_of(const std::vector<int>& owner, int part) {
 }
 
 // Part `part`'s restriction, its core as owned_centres.
+// The restriction's bond flags that differ from the whole body's (of its booked points' rows
+// only, with `booked_only`).
+std::size_t differing_flags(const Body& body, const ckpd::BodyRestriction& r, bool booked_only) {
+  std::size_t differing = 0;
+  for (std::size_t k = 0; k < r.global.size(); ++k) {
+    if (booked_only && !r.body.books(k)) continue;
+    std::size_t e = body.family.offset[r.global[k]];
+    for (std::size_t l = r.body.family.offset[k]; l < r.body.family.offset[k + 1]; ++l) {
+      while (body.family.neighbour[e] != r.global[r.body.family.neighbour[l]]) ++e;
+      differing += r.body.bond_intact[l] != body.bond_intact[e];
+    }
+  }
+  return differing;
+}
+
 ckpd::BodyRestriction part_restriction(const Body& body, const std::vector<int>& owner, int part) {
   const std::vector<std::uint8_t> core = core_of(owner, part);
   ckpd::BodyRestriction r = ckpd::restrict_body(body, ckpd::core_and_halo(body, core));
@@ -206,16 +221,7 @@ TEST_CASE("bond failure on a restriction breaks the bonds the whole body breaks"
   REQUIRE(failed > 0);
   for (ckpd::BodyRestriction& r : parts) {
     ckpd::update_bond_failure(r.body);
-    std::size_t differing = 0;
-    for (std::size_t k = 0; k < r.global.size(); ++k) {
-      const std::size_t i = r.global[k];
-      std::size_t e = body.family.offset[i];
-      for (std::size_t l = r.body.family.offset[k]; l < r.body.family.offset[k + 1]; ++l) {
-        while (body.family.neighbour[e] != r.global[r.body.family.neighbour[l]]) ++e;
-        differing += r.body.bond_intact[l] != body.bond_intact[e];
-      }
-    }
-    CHECK(differing == 0);
+    CHECK(differing_flags(body, r, false) == 0);
   }
 }
 
@@ -311,16 +317,9 @@ TEST_CASE("the fused bond-only kernel on restrictions fails, books and forces as
         ckpd::fail_bonds_and_compute_internal_force(r.body, true, half_drift, mine);
         failed += mine.failed;
         dissipated += mine.dissipated;
-        for (std::size_t k = 0; k < r.global.size(); ++k) {
+        for (std::size_t k = 0; k < r.global.size(); ++k)
           force[r.global[k]] += r.body.force_density[k];
-          if (!r.body.booked_points[k]) continue;
-          const std::size_t i = r.global[k];
-          std::size_t e = body.family.offset[i];
-          for (std::size_t l = r.body.family.offset[k]; l < r.body.family.offset[k + 1]; ++l) {
-            while (body.family.neighbour[e] != r.global[r.body.family.neighbour[l]]) ++e;
-            differing += r.body.bond_intact[l] != body.bond_intact[e];
-          }
-        }
+        differing += differing_flags(body, r, true);
       }
       CHECK(differing == 0);
       CHECK(failed == whole.failed);

@@ -50,6 +50,27 @@ bool bond_only_path(const Context<Model>& ctx, const SymmetricKernelWorkspace& w
          body.upper_bonds != nullptr && body.upper_bonds->matches(body.family);
 }
 
+// Bond {i, j} (j > i, stored at k in i's row) fails now: from both ends, both marked for the
+// booking. The reverse entry (i in j's row, below j) is this bond's alone, so no other thread
+// touches it.
+template <class Model>
+inline void fail_from_both_ends(const Context<Model>& ctx, std::size_t i, std::size_t k,
+                                std::uint32_t j, const FusedFailure& fused) {
+  const UpperBonds& table = *ctx.body->upper_bonds;
+  const std::uint32_t* row = ctx.neighbour + ctx.offset[j];
+  const std::size_t back =
+      ctx.offset[j] + static_cast<std::size_t>(std::lower_bound(row, ctx.neighbour + table.first[j],
+                                                                static_cast<std::uint32_t>(i)) -
+                                               row);
+  Body& body = const_cast<Body&>(*ctx.body);
+  body.bond_intact[k] = 0;
+  body.bond_intact[back] = 0;
+  fused.failing[k] = 1;
+  fused.failing[back] = 1;
+  std::atomic_ref<std::uint8_t>(fused.touched[i]).store(1, std::memory_order_relaxed);
+  std::atomic_ref<std::uint8_t>(fused.touched[j]).store(1, std::memory_order_relaxed);
+}
+
 // A ghost i of a rank's restriction: its bonds to owned points above it that break now, failed
 // from both ends and marked for the booking, as bond_only_point<kFail> does for an owned i (no
 // forces: the ghost's owner computes them). `failed` counts them.
@@ -63,19 +84,7 @@ inline void ghost_bond_failures(const Context<Model>& ctx, std::size_t i, const 
     const std::uint32_t j = ctx.neighbour[k];
     if (!body.owned_centres[j] || !ctx.bond_intact(k)) continue;
     if (!bond_failure_detail::breaks_now(ctx.model, body, fused.protect, i, k)) continue;
-    const std::uint32_t* row = ctx.neighbour + ctx.offset[j];
-    const std::size_t back =
-        ctx.offset[j] +
-        static_cast<std::size_t>(
-            std::lower_bound(row, ctx.neighbour + table.first[j], static_cast<std::uint32_t>(i)) -
-            row);
-    Body& mutable_body = const_cast<Body&>(body);
-    mutable_body.bond_intact[k] = 0;
-    mutable_body.bond_intact[back] = 0;
-    fused.failing[k] = 1;
-    fused.failing[back] = 1;
-    std::atomic_ref<std::uint8_t>(fused.touched[i]).store(1, std::memory_order_relaxed);
-    std::atomic_ref<std::uint8_t>(fused.touched[j]).store(1, std::memory_order_relaxed);
+    fail_from_both_ends(ctx, i, k, j, fused);
     ++failed;
   }
 }
@@ -141,21 +150,7 @@ inline void bond_only_point(const Context<Model>& ctx, std::size_t i, SymmetricK
     const std::uint32_t j = nb[a];
     if constexpr (kFail) {
       if (screen[a] != 0 && bond_failure_detail::breaks_now(model, body, fused.protect, i, k)) {
-        // Failed from both ends now; the reverse entry (i in j's row, below j) is this bond's
-        // alone, so no other thread touches it.
-        const std::uint32_t* row = ctx.neighbour + ctx.offset[j];
-        const std::size_t back =
-            ctx.offset[j] +
-            static_cast<std::size_t>(std::lower_bound(row, ctx.neighbour + table.first[j],
-                                                      static_cast<std::uint32_t>(i)) -
-                                     row);
-        Body& mutable_body = const_cast<Body&>(body);
-        mutable_body.bond_intact[k] = 0;
-        mutable_body.bond_intact[back] = 0;
-        fused.failing[k] = 1;
-        fused.failing[back] = 1;
-        std::atomic_ref<std::uint8_t>(fused.touched[i]).store(1, std::memory_order_relaxed);
-        std::atomic_ref<std::uint8_t>(fused.touched[j]).store(1, std::memory_order_relaxed);
+        fail_from_both_ends(ctx, i, k, j, fused);
         ++failed;
         continue;
       }

@@ -138,7 +138,11 @@ void ContactGhosts::select() {
     receive_buffer_[q].assign(
         q == me ? 0 : kSelectionValues * static_cast<std::size_t>(all_counts[q * ranks + me]), 0.0);
   ranks::exchange(send_buffer_, receive_buffer_);
+  build_views();
+}
 
+void ContactGhosts::build_views() {
+  const std::size_t ranks = send_.size();
   // Each body's view: owned points and ghosts in increasing whole-body index.
   struct Entry {
     std::uint32_t global;

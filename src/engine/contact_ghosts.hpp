@@ -74,6 +74,9 @@ class ContactGhosts {
  private:
   struct View;
   void select();
+  // The views from the owned points and the selection just received (receive_buffer_), and a new
+  // manager on them.
+  void build_views();
   void refresh();
   bool drifted() const;
   void sum_wall_reactions();
