@@ -66,6 +66,19 @@ std::vector<std::uint8_t> core_of(const std::vector<int>& owner, int part) {
 }
 
 // Part `part`'s restriction, its core as owned_centres.
+// A critical stretch of 0.02 with the bonds past it failed, then a perturbation to stretches of
+// about 0.06 (a share of the bonds about to fail) and random velocities (the booking's midpoint).
+// Returns the failed bonds before the perturbation.
+std::size_t overstretch(Body& body, std::mt19937& rng) {
+  body.critical_stretch = 0.02;
+  ckpd::update_bond_failure(body);
+  const std::size_t before = ckpd::failed_bond_count(body);
+  perturb(body, 0.03, rng);
+  std::uniform_real_distribution<double> speed(-1, 1);  // m/s
+  for (Vec3& v : body.velocity) v = Vec3(speed(rng), speed(rng), speed(rng));
+  return before;
+}
+
 // The restriction's bond flags that differ from the whole body's (of its booked points' rows
 // only, with `booked_only`).
 std::size_t differing_flags(const Body& body, const ckpd::BodyRestriction& r, bool booked_only) {
@@ -239,11 +252,7 @@ TEST_CASE("restrictions booking their own points add up to the whole body's book
         const Scene s{"3D lattice", 3, nu, 0.0, 8, 6, 5};
         // nu = 1/4: bonds only (no stencil tables to build)
         Body body = make(s, {ForceForm::own_family, rule, nu != 0.25}, rng);
-        body.critical_stretch = 0.02;
-        ckpd::update_bond_failure(body);  // none yet: the pre-existing count below is zero
-        perturb(body, 0.03, rng);
-        std::uniform_real_distribution<double> speed(-1, 1);  // m/s: the booking's midpoint
-        for (Vec3& v : body.velocity) v = Vec3(speed(rng), speed(rng), speed(rng));
+        overstretch(body, rng);
         const std::vector<int> owner = owners(body, 3, true, rng);
         std::vector<ckpd::BodyRestriction> parts;
         for (int p = 0; p < 3; ++p) {
@@ -292,12 +301,7 @@ TEST_CASE("the fused bond-only kernel on restrictions fails, books and forces as
       std::mt19937 rng(11);
       const Scene s{"3D lattice, bonds only", 3, 0.25, 0.0, 8, 6, 5};
       Body body = make(s, {ForceForm::own_family, rule, false}, rng);
-      body.critical_stretch = 0.02;
-      ckpd::update_bond_failure(body);
-      const std::size_t before = ckpd::failed_bond_count(body);
-      perturb(body, 0.03, rng);
-      std::uniform_real_distribution<double> speed(-1, 1);  // m/s: the booking's midpoint
-      for (Vec3& v : body.velocity) v = Vec3(speed(rng), speed(rng), speed(rng));
+      const std::size_t before = overstretch(body, rng);
       const std::vector<int> owner = owners(body, 3, true, rng);
       std::vector<ckpd::BodyRestriction> parts;
       for (int p = 0; p < 3; ++p) {
