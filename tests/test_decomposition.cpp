@@ -163,3 +163,38 @@ time: {steps: 10}
   CHECK(bad.exit_code == 2);
   CHECK(bad.output.find("fewer than the 1000 ranks") != std::string::npos);
 }
+
+TEST_CASE("check --ranks says which contact scenes distributed memory takes", "[cli]") {
+  using namespace ckpd::testing;
+  const auto dir = fresh_dir("check_ranks_contact");
+  // Two bars in contact under the seed law, then under a DEM law with friction.
+  const std::string bars = R"(# SI units
+materials:
+  steel: {density: 7850, youngs_modulus: 200e9, poisson_ratio: 0.3}
+bodies:
+  - {name: a, material: steel, geometry: {type: box, min: [0, 0, 0], max: [0.011, 0.003, 0.003]},
+     spacing: 0.001, horizon_ratio: 2.015}
+  - {name: b, material: steel, geometry: {type: box, min: [0, 0, 0.0035], max: [0.011, 0.003, 0.0065]},
+     spacing: 0.001, horizon_ratio: 2.015}
+time: {steps: 10}
+)";
+  const std::string seed =
+      write_file(dir / "seed.yaml", bars + "contact: {stiffness: 1.0e12, radius: 0.0008}\n");
+  const CommandResult ok = run_ckpd("check " + seed + " --steps 0 --ranks 2");
+  INFO(ok.output);
+  REQUIRE(ok.exit_code == 0);
+  CHECK(ok.output.find("distributed memory: each rank holds its points and their halo") !=
+        std::string::npos);
+  CHECK(ok.output.find("contact on distributed memory: each rank takes as contact ghosts") !=
+        std::string::npos);
+  const std::string friction = write_file(
+      dir / "friction.yaml",
+      bars +
+          "contact: {stiffness: 1.0e12, radius: 0.0008, law: linear_dashpot, restitution: 0.5, "
+          "friction: 0.3}\n");
+  const CommandResult replicated = run_ckpd("check " + friction + " --steps 0 --ranks 2");
+  INFO(replicated.output);
+  REQUIRE(replicated.exit_code == 0);
+  CHECK(replicated.output.find("replicated state") != std::string::npos);
+  CHECK(replicated.output.find("has friction") != std::string::npos);
+}
