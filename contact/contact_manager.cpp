@@ -461,9 +461,11 @@ void ContactManager::add_forces(double dt) {
   energy_ = 0;
   std::uint64_t contacts = 0;
   for (std::size_t t = 0; t < targets_.size(); ++t) {
-    if (bodies_[targets_[t].body].points.books(targets_[t].point)) energy_ += target_energy_[t];
-    contacts += target_contacts_[t];
     stats_.point_pair_tests += target_tests_[t];
+    // A point another process books (a rigid body every rank computes) is its to count.
+    if (!bodies_[targets_[t].body].points.books(targets_[t].point)) continue;
+    energy_ += target_energy_[t];
+    contacts += target_contacts_[t];
   }
   if (dem_) {
     double damping = 0;
@@ -483,6 +485,7 @@ void ContactManager::add_forces(double dt) {
     damping_dissipated_ += dt * damping;
   }
   stats_.points_in_contact = contacts / 2;
+  stats_.contact_ends = contacts;
   std::size_t wall_touching = 0;
   if (walls_) {
     walls_->add_forces(dt, evaluation_);
@@ -490,6 +493,7 @@ void ContactManager::add_forces(double dt) {
     damping_dissipated_ += walls_->damping_dissipated();
     friction_dissipated_ += walls_->friction_dissipated();
     stats_.points_in_contact += walls_->points_in_contact();
+    stats_.contact_ends += 2 * walls_->points_in_contact();
     for (std::size_t k = 0; k < walls_->pairs(); ++k) wall_touching += walls_->pair_touching(k);
   }
   stats_.points_in_contact_peak = std::max(stats_.points_in_contact_peak, stats_.points_in_contact);

@@ -42,6 +42,9 @@ struct ContactStatistics {
   std::size_t candidate_pairs = 0;     // body pairs (self-contact included) now
   std::size_t candidate_pairs_peak = 0;
   std::size_t points_in_contact = 0;  // point pairs closer than l_c now
+  // Their ends this process books (a pair's two ends, a point on a wall counted twice): summed over
+  // distributed ranks, twice the scene's pairs.
+  std::uint64_t contact_ends = 0;
   std::size_t points_in_contact_peak = 0;
   std::size_t touching_pairs = 0;  // body pairs with a point pair closer than l_c now
   std::size_t touching_pairs_peak = 0;

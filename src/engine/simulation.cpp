@@ -573,7 +573,8 @@ void Simulation::reduce_books(bool with_energy) {
   const ContactManager* manager = contact_ghosts_ ? &contact_ghosts_->manager() : nullptr;
   v.assign({external_work_, dissipated_, strain_energy_, kinetic_energy(),
             manager ? manager->energy() : 0.0, manager ? manager->damping_dissipated() : 0.0,
-            manager ? manager->friction_dissipated() : 0.0});
+            manager ? manager->friction_dissipated() : 0.0,
+            manager ? static_cast<double>(manager->statistics().contact_ends) : 0.0});
   const std::size_t failed_at = v.size(), inverted_at = failed_at + bodies;
   for (std::size_t k = 0; k < bodies; ++k) v.push_back(static_cast<double>(failed_[k]));
   for (std::size_t k = 0; k < bodies; ++k) v.push_back(static_cast<double>(inverted_[k]));
@@ -594,6 +595,8 @@ void Simulation::reduce_books(bool with_energy) {
   books_.contact = v[4];
   books_.contact_damping = v[5];
   books_.contact_friction = v[6];
+  books_.contact_pairs = static_cast<std::uint64_t>(v[7]) / 2;
+  books_.contact_pairs_peak = std::max(books_.contact_pairs_peak, books_.contact_pairs);
   books_.failed.resize(bodies);
   for (std::size_t k = 0; k < bodies; ++k)
     books_.failed[k] = static_cast<std::size_t>(v[failed_at + k]);

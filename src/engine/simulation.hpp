@@ -187,6 +187,9 @@ class Simulation {
   // held at a step (0 and 0 otherwise).
   std::uint64_t contact_ghost_selections() const;
   std::uint64_t contact_ghosts_peak() const { return books_.contact_ghosts_peak; }
+  // On distributed memory: the point pairs in contact over all ranks, now and at the most.
+  std::uint64_t contact_pairs() const { return books_.contact_pairs; }
+  std::uint64_t contact_pairs_peak() const { return books_.contact_pairs_peak; }
   // The run's own counters, for checkpoints: restoring them together with every body's state
   // continues the run bit for bit.
   struct Counters {
@@ -287,6 +290,7 @@ class Simulation {
     double contact = 0;  // contact energy, summed over the ranks' owned points
     double contact_damping = 0, contact_friction = 0;  // dissipated by contact, summed likewise
     std::uint64_t contact_ghosts_peak = 0;
+    std::uint64_t contact_pairs = 0, contact_pairs_peak = 0;  // point pairs in contact, all ranks
     std::vector<std::uint64_t> inverted;
     std::vector<std::size_t> failed;
   } books_;

@@ -58,8 +58,10 @@ nlohmann::ordered_json contact_summary(const Simulation& sim) {
     j["pairs_checked"] = s.pairs_checked;
     j["candidate_pairs_peak"] = s.candidate_pairs_peak;
     j["touching_pairs_peak"] = s.touching_pairs_peak;
-    j["point_pairs_in_contact_peak"] = s.points_in_contact_peak;
-    j["point_pairs_in_contact"] = s.points_in_contact;
+    // Distributed memory: over all ranks, counted at every step.
+    j["point_pairs_in_contact_peak"] =
+        sim.distribution() ? sim.contact_pairs_peak() : s.points_in_contact_peak;
+    j["point_pairs_in_contact"] = sim.distribution() ? sim.contact_pairs() : s.points_in_contact;
     j["points_binned"] = s.points_binned;
     j["point_pair_tests"] = s.point_pair_tests;
     j["contact_seconds"] = s.seconds;
@@ -72,7 +74,9 @@ nlohmann::ordered_json contact_summary(const Simulation& sim) {
     j["laws"] = laws;
     if (sim.distribution()) {
       // Distributed memory (src/engine/contact_ghosts.hpp): the statistics above are rank 0's.
-      j["statistics_of"] = "rank 0 (its owned points and their contact ghosts)";
+      j["statistics_of"] =
+          "all ranks for the point pairs in contact, else rank 0 (its owned points and their "
+          "contact ghosts)";
       j["contact_ghost_selections"] = sim.contact_ghost_selections();
       j["contact_ghosts_most_on_a_rank"] = sim.contact_ghosts_peak();
       j["contact_ghost_bytes_per_step_most_on_a_rank"] =

@@ -58,6 +58,16 @@ sys.exit(0 if c["point_pairs_in_contact_peak"] > 0 and (not damped or c["damping
          else 1)
 PY
 }
+# The ranks' count of point pairs in contact at the most must be the single process's.
+same_contact_count() {
+  $python - "$@" <<'PY'
+import json, sys
+peaks = [json.load(open(f"{d}/summary.json"))["contact"].get("point_pairs_in_contact_peak")
+         for d in sys.argv[1:]]
+print(f"point pairs in contact at the most: {peaks}")
+sys.exit(0 if len(set(peaks)) == 1 else 1)
+PY
+}
 rm -rf "$work"
 mkdir -p "$work"
 case $what in
@@ -71,6 +81,7 @@ equivalence)
   touched "$work/np1"
   ghosts_chosen_again "$work/np2"
   ghosts_chosen_again "$work/np3"
+  same_contact_count "$work/np1" "$work/np2" "$work/np3"
   $python "$src/tests/mpi/compare_runs.py" "$work/np1" "$work/np2" "$work/np3"
   ;;
 restart)
