@@ -1,9 +1,8 @@
 #pragma once
 // Point i of the symmetric kernel for a body with bonds only (no two- or three-neighbour sets,
 // no lattice stencil, no far field, no replicated rank share): its bonds {i, j}, j > i, straight
-// from the
-// CSR row, with L and 1/L from the body's table (upper_bonds.hpp). Same arithmetic, in the same
-// order, as load_upper_family + bond_loop (+ bond_loop_conservative) and the flush of
+// from the CSR row, with L and 1/L from the body's table (upper_bonds.hpp). Same arithmetic, in
+// the same order, as load_upper_family + bond_loop (+ bond_loop_conservative) and the flush of
 // process_point, so the forces and energies are those of the general path bit for bit; without
 // its per-slot bookkeeping (bit rows, per-slot weights, accumulators) and with the square root
 // and division of l in a loop the compiler vectorises.
