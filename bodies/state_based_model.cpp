@@ -330,11 +330,11 @@ Eigen::Matrix3d state_based_point_kirchhoff_stress(const Body& body, std::size_t
   return tau;
 }
 
-void state_based_free_surface(const Body& body, std::vector<double>& D) {
+void state_based_free_surface(const Body& body, std::vector<double>& D, const Body* whole) {
   Law law(body);
   // Bodies of other models: the same weight, normalised the same way.
   if (body.state_based.weight_scale == 0) {
-    const double fullest = fullest_family(body);
+    const double fullest = fullest_family(whole ? *whole : body);
     law.wk =
         fullest > 0 ? body.dimension / fullest * weight_constant(body.dimension, body.horizon) : 0;
   }

@@ -46,8 +46,11 @@ void state_based_energy_density(const Body& body, std::vector<double>& psi);
 //   tau_i = sum_j d psi_i / d Y_ij (x) Y_ij
 //         = sum_j phi [lambda_bar theta_i + 2 mu_bar eps_ij] w V_j c^(m-1) / |xi|^2 Y (x) Y.
 Eigen::Matrix3d state_based_point_kirchhoff_stress(const Body& body, std::size_t i);
-// The free-surface parameter D_i = 1 - tr_w(phi) / d (0 inside a full, intact family).
-void state_based_free_surface(const Body& body, std::vector<double>& D);
+// The free-surface parameter D_i = 1 - tr_w(phi) / d (0 inside a full, intact family). A body of
+// another model is weighted as a state-based one would be, normalised by its fullest family:
+// `whole`'s, when `body` is a part of it (a rank's points and halo), else its own.
+void state_based_free_surface(const Body& body, std::vector<double>& D,
+                              const Body* whole = nullptr);
 // The stiffness bound k_i (Body::stiffness_bound) of the tangent at the current displacement
 // (at the reference state for u = 0): a directional Gershgorin bound of every term's Hessian.
 void state_based_stiffness_bound(const Body& body, std::vector<double>& bound);

@@ -5,9 +5,13 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "run_helpers.hpp"
 
@@ -105,6 +109,93 @@ std::pair<haddr_t, hsize_t> data_region(const std::filesystem::path& file, const
   return {offset, size};
 }
 
+// FNV-1a (64 bit), written out here from its definition: the reference for the format-3 hash.
+struct Fnv {
+  std::uint64_t h = 1469598103934665603ull;
+  void bytes(const void* data, std::size_t size) {
+    for (std::size_t i = 0; i < size; ++i) {
+      h ^= static_cast<const unsigned char*>(data)[i];
+      h *= 1099511628211ull;
+    }
+  }
+  template <class T>
+  void value(T v) {
+    bytes(&v, sizeof v);
+  }
+};
+
+template <class T>
+std::vector<T> read_all(hid_t f, const char* dataset, hid_t type) {
+  const hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
+  const hid_t space = H5Dget_space(d);
+  std::vector<T> data(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+  H5Dread(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data());
+  H5Sclose(space);
+  H5Dclose(d);
+  return data;
+}
+
+template <class T>
+T read_attribute(hid_t object, const char* name, hid_t type) {
+  T value{};
+  const hid_t a = H5Aopen(object, name, H5P_DEFAULT);
+  H5Aread(a, type, &value);
+  H5Aclose(a);
+  return value;
+}
+
+void write_string_attribute(hid_t object, const char* name, const std::string& value) {
+  H5Adelete(object, name);
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, value.size());
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(a, type, value.c_str());
+  H5Aclose(a);
+  H5Sclose(space);
+  H5Tclose(type);
+}
+
+// Turns a checkpoint of the strip case into the format ckpd wrote before format 4: the same
+// datasets, "ckpd checkpoint 3" and the hash of the counters and then each body's name, initially
+// failed bonds and arrays (each array its length, then its bytes) in one sequence.
+void make_format_3(const std::filesystem::path& file) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  REQUIRE(f >= 0);
+  Fnv h;
+  h.value(read_attribute<double>(f, "dt", H5T_NATIVE_DOUBLE));
+  h.value(read_attribute<double>(f, "time", H5T_NATIVE_DOUBLE));
+  h.value(read_attribute<long long>(f, "step", H5T_NATIVE_LLONG));
+  for (const char* name : {"external_work", "dissipated", "strain_energy", "initial_total"})
+    h.value(read_attribute<double>(f, name, H5T_NATIVE_DOUBLE));
+  const hid_t body = H5Gopen2(f, "body_0", H5P_DEFAULT);
+  const std::string name = "strip";
+  h.value(name.size());
+  h.bytes(name.data(), name.size());
+  h.value(static_cast<std::size_t>(
+      read_attribute<long long>(body, "initially_failed", H5T_NATIVE_LLONG)));
+  for (const char* set :
+       {"displacement", "velocity", "acceleration", "force_density", "external_force_density"}) {
+    const std::vector<double> v = read_all<double>(body, set, H5T_NATIVE_DOUBLE);
+    h.value(v.size() / 3);
+    h.bytes(v.data(), v.size() * sizeof(double));
+  }
+  const std::vector<double> sed =
+      read_all<double>(body, "strain_energy_density", H5T_NATIVE_DOUBLE);
+  h.value(sed.size());
+  h.bytes(sed.data(), sed.size() * sizeof(double));
+  const std::vector<std::uint8_t> bonds =
+      read_all<std::uint8_t>(body, "bond_intact", H5T_NATIVE_UINT8);
+  h.value(bonds.size());
+  h.bytes(bonds.data(), bonds.size());
+  H5Gclose(body);
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h.h));
+  write_string_attribute(f, "format", "ckpd checkpoint 3");
+  write_string_attribute(f, "content_hash", hex);
+  H5Fclose(f);
+}
+
 }  // namespace
 
 TEST_CASE("a restart from an untouched checkpoint is accepted", "[checkpoint]") {
@@ -191,4 +282,18 @@ TEST_CASE("a dt mismatch prints both time steps, not 0.000000", "[checkpoint]") 
                      {"written with dt = ", "e-07 s, this case gives ", "must keep the time step"},
                      "--set time.safety=0.5");
   CHECK(r.output.find("0.000000") == std::string::npos);
+}
+
+TEST_CASE("a checkpoint of format 3 (one hash over the arrays in sequence) is still restored",
+          "[checkpoint]") {
+  const Fixture f = make_checkpoint("ckpt-format3");
+  const auto old = copy_of(f, "format3.h5");
+  make_format_3(old);
+  const CommandResult r = run_ckpd("run " + f.file + " --quiet --set time.steps=15 --out " +
+                                   (f.dir / "b").string() + " --restart " + old.string());
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  // The same file with one displacement changed is refused: the format-3 hash is checked.
+  poke(old, "/body_0/displacement", H5T_NATIVE_DOUBLE, 4, 1e-9);
+  expect_refused(f, old, {old.string(), "content hash"});
 }

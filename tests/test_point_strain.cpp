@@ -44,9 +44,9 @@ TEST_CASE("a homogeneous deformation gives its F, strain and dilatation at every
     for (std::size_t i = 0; i < body.size(); ++i)
       body.displacement[i] = (F - Eigen::Matrix3d::Identity()) * body.reference_position[i] + shift;
     std::vector<double> grad, strain, dil;
-    find_field("deformation_gradient")->extract(sim, 0, grad);
-    find_field("green_lagrange_strain")->extract(sim, 0, strain);
-    find_field("dilatation")->extract(sim, 0, dil);
+    find_field("deformation_gradient")->extract({body, 0}, grad);
+    find_field("green_lagrange_strain")->extract({body, 0}, strain);
+    find_field("dilatation")->extract({body, 0}, dil);
     const Eigen::Matrix3d E = 0.5 * (F.transpose() * F - Eigen::Matrix3d::Identity());
     const double expected_strain[6] = {E(0, 0), E(0, 1), E(0, 2), E(1, 1), E(1, 2), E(2, 2)};
     double worst = 0;
@@ -69,7 +69,7 @@ TEST_CASE("a point with every bond failed has no deformation gradient", "[output
   for (std::size_t k = body.family.offset[0]; k < body.family.offset[1]; ++k)
     body.bond_intact[k] = 0;
   std::vector<double> dil;
-  find_field("dilatation")->extract(sim, 0, dil);
+  find_field("dilatation")->extract({body, 0}, dil);
   CHECK(std::isnan(dil[0]));
   CHECK(dil[1] == Approx(0).margin(1e-14));
 }

@@ -25,6 +25,7 @@
 #include "src/geometry/work_estimate.hpp"
 #include "src/output/beta_report.hpp"
 #include "src/output/checkpoint.hpp"
+#include "src/output/hdf5_io.hpp"
 #include "src/output/kernel_report.hpp"
 #include "src/output/run_driver.hpp"
 
@@ -39,6 +40,7 @@ struct RunOptions {
   std::string restart;
   int threads = 0;
   bool quiet = false;
+  bool gather_output = false;
 };
 
 // Set by SIGINT/SIGTERM: the run finishes its step, writes a checkpoint and stops.
@@ -131,6 +133,13 @@ void choose_rank_threads() {
 
 // summary.json's account of the ranks: how the points were shared, and what the scheme holds and
 // exchanges (`refusal`: why the scene runs on replicated state; empty: distributed memory).
+// How an MPI run writes its field frames and checkpoints (distributed: on distributed memory).
+std::string output_files_text(bool distributed, bool gathered) {
+  return distributed && hdf5::shared_files() && !gathered
+             ? "written by every rank into shared files, each its own points (parallel HDF5)"
+             : "gathered to rank 0, which writes them";
+}
+
 nlohmann::ordered_json decomposition_json(const Scene& scene, const Decomposition& d,
                                           const std::string& refusal) {
   nlohmann::ordered_json per_rank = nlohmann::ordered_json::array();
@@ -205,6 +214,7 @@ int run(const RunOptions& opt) {
   if (out.empty()) out = "runs/" + std::filesystem::path(opt.case_file).stem().string();
   auto set_up = [&]() {
     scene_holder.emplace(load_scene(opt.case_file, opt.overrides));
+    scene_holder->output.gather_files = opt.gather_output;
     // Several ranks: each holds its part of the scene (distribution.hpp) or, for a scene that
     // scheme does not take, the whole scene, evaluating the sets centred at its own points
     // (force_sharing.hpp).
@@ -245,7 +255,8 @@ int run(const RunOptions& opt) {
         const std::uint64_t ghosts = decomposition.ghosts();
         setup << "distributed memory: each rank holds its points and their halo, " << ghosts
               << " halo points, " << format_bytes(halo_bytes_per_step(ghosts))
-              << " of halo messages per step in all\n";
+              << " of halo messages per step in all; frames and checkpoints "
+              << output_files_text(true, opt.gather_output) << "\n";
       } else {
         setup << "state replicated on every rank (distributed memory does not take this scene: "
               << refusal << ")\n";
@@ -254,7 +265,7 @@ int run(const RunOptions& opt) {
     if (!opt.quiet && root) std::cout << setup.str() << std::flush;
 
     RunDriverOptions driver_options;
-    driver_options.out = root ? out : std::string();  // rank 0 writes every file
+    driver_options.out = out;  // rank 0 writes the files (the ranks share frames, checkpoints)
     driver_options.restarted_from = opt.restart;
     driver_options.progress = !opt.quiet && root;
     driver_options.start = start;
@@ -265,8 +276,11 @@ int run(const RunOptions& opt) {
       driver_options.log_header.push_back("override: --set " + o);
     driver_options.log_header.push_back(setup.str());
     driver_options.provenance = provenance(opt);
-    if (rank_count > 1)
+    if (rank_count > 1) {
       driver_options.decomposition = decomposition_json(*scene_holder, decomposition, refusal);
+      driver_options.decomposition["frames_and_checkpoints"] =
+          output_files_text(parts.has_value(), opt.gather_output);
+    }
     // An output folder that cannot be made or written is bad input too (exit 2), found before
     // any step.
     try {
@@ -339,6 +353,10 @@ void add_run_command(CLI::App& app, int& exit_status) {
                   "continue from a checkpoint of this case (DIR/checkpoint.h5, written every "
                   "output.checkpoint_interval steps and on SIGINT/SIGTERM)");
   cmd->add_flag("--quiet", opt->quiet, "print nothing but errors");
+  cmd->add_flag("--gather-output", opt->gather_output,
+                "MPI on distributed memory: rank 0 gathers the points and writes the field frames "
+                "and checkpoints alone (a file system without MPI-IO locking, such as NFS); by "
+                "default every rank writes its points into them where HDF5 is parallel");
   cmd->callback([opt, &exit_status]() { exit_status = run(*opt); });
 }
 

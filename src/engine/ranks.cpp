@@ -200,6 +200,24 @@ bool from_root(bool flag) {
   return flag;
 }
 
+long long from_root(long long value) {
+#ifdef CKPD_WITH_MPI
+  if (count() > 1) MPI_Bcast(&value, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+#endif
+  return value;
+}
+
+std::uint64_t sum_wrapping(std::uint64_t value) {
+#ifdef CKPD_WITH_MPI
+  if (count() > 1) {
+    std::uint64_t sum = 0;
+    MPI_Allreduce(&value, &sum, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    return sum;
+  }
+#endif
+  return value;
+}
+
 int agree_on_failure(int status, [[maybe_unused]] const std::string& message) {
 #ifdef CKPD_WITH_MPI
   if (count() > 1) {

@@ -5,6 +5,7 @@
 // started by a launcher as one of several, there is one rank and every call here is a no-op, so
 // ckpd runs exactly as before.
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -55,8 +56,11 @@ void exchange(const std::vector<std::vector<double>>& send,
 
 // Whether `flag` is true on any rank (a collective: every rank calls it at the same point).
 bool any(bool flag);
-// Rank 0's value of `flag` on every rank.
+// Rank 0's value of `flag` (`value`) on every rank.
 bool from_root(bool flag);
+long long from_root(long long value);
+// The sum over ranks of `value` modulo 2^64 (exact, the same in any order), on every rank.
+std::uint64_t sum_wrapping(std::uint64_t value);
 
 // A failure in a phase that every rank passes (set-up, output folder, checkpoint): every rank
 // calls it with its exit status (0: none) and message. Returns the largest status over ranks;

@@ -68,6 +68,9 @@ struct OutputSettings {
   long long field_interval = 0;
   double field_time_interval = 0;
   long long checkpoint_interval = 0;  // steps between checkpoints; 0: only on SIGINT/SIGTERM
+  // Not a case key (`ckpd run --gather-output`): the ranks of a distributed run leave the frames
+  // and checkpoints to rank 0, which gathers their points (src/output/output_share.hpp).
+  bool gather_files = false;
   bool writes_fields() const { return field_interval > 0 || field_time_interval > 0; }
 };
 

@@ -10,16 +10,21 @@
 #include <sstream>
 
 #include "src/engine/distribution.hpp"
+#include "src/engine/ranks.hpp"
 #include "src/output/hdf5_io.hpp"
+#include "src/output/output_share.hpp"
 
 namespace ckpd {
 
 namespace {
 
-// Format 3: the content hash and the case's physics text (format 1 had neither), rigid states with
+// Format 4: the content hash and the case's physics text (format 1 had neither), rigid states with
 // the contact couple, and the contact group with the DEM laws' springs (format 2 had no couple
-// or springs). Older formats are refused.
-constexpr const char* kFormat = "ckpd checkpoint 3";
+// or springs). Format 4 hashes each point's row on its own and adds the rows' hashes, so that the
+// ranks of a distributed run can hash the rows they write (format 3 hashed the arrays in one
+// sequence; still read). Older formats are refused.
+constexpr const char* kFormat = "ckpd checkpoint 4";
+constexpr const char* kFormat3 = "ckpd checkpoint 3";
 constexpr std::size_t kRigidState = 16;
 using hdf5::Handle;
 
@@ -48,6 +53,7 @@ class ContentHash {
     value(s.size());
     bytes(s.data(), s.size());
   }
+  std::uint64_t value() const { return h_; }
   std::string hex() const {
     std::ostringstream s;
     s << std::hex << std::setw(16) << std::setfill('0') << h_;
@@ -73,6 +79,33 @@ void hash_counters(ContentHash& h, double dt, const Simulation::Counters& c, boo
   }
 }
 
+// Format 4: the sum (modulo 2^64) over the share's points of each point's hash of its body and
+// whole-body index, its state and its bond flags, so that any split of the rows over ranks gives
+// the same sum, and a changed byte changes its row's hash and with it the sum.
+std::uint64_t point_rows_hash(const BodyShare& share, std::size_t b) {
+  const Body& body = *share.body;
+  const bool families = body.family.offset.size() == body.size() + 1 && !body.bond_intact.empty();
+  std::uint64_t sum = 0;
+  for (std::size_t k = 0; k < share.local.size(); ++k) {
+    const std::size_t l = share.local[k];
+    ContentHash h;
+    h.value(b);
+    h.value(share.whole[k]);
+    h.value(body.displacement[l]);
+    h.value(body.velocity[l]);
+    h.value(body.acceleration[l]);
+    h.value(body.force_density[l]);
+    h.value(body.external_force_density[l]);
+    h.value(body.strain_energy_density[l]);
+    if (families)
+      h.bytes(body.bond_intact.data() + body.family.offset[l],
+              body.family.offset[l + 1] - body.family.offset[l]);
+    sum += h.value();
+  }
+  return sum;
+}
+
+// Format 3: the body's arrays in one sequence.
 void hash_body(ContentHash& h, const Body& body, std::size_t initially_failed) {
   h.text(body.name);
   h.value(initially_failed);
@@ -169,12 +202,18 @@ void require_finite(const std::string& path, const std::string& what, double v) 
 
 void write_checkpoint(const std::string& path, const Simulation& sim) {
   hdf5::silence_errors();
+  // A shared file (output_share.hpp): every rank writes the rows of its owned points; every
+  // rank holds the same counters, rigid states and contact books, so all write the same
+  // attributes. Rank 0 renames the file.
+  const bool shared = shared_output(sim);
   const std::string temp = path + ".partial";
   {
-    Handle file(H5Fcreate(temp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
-                "create " + temp);
+    Handle file(shared ? hdf5::create_shared_file(temp)
+                       : H5Fcreate(temp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+                H5Fclose, "create " + temp);
     const Simulation::Counters c = sim.counters();
     ContentHash hash;
+    std::uint64_t rows_hash = 0;
     hash_counters(hash, sim.step_choice().dt, c, sim.adaptive());
     hdf5::write_string_attribute(file, "format", kFormat);
     hdf5::write_string_attribute(file, "case_fingerprint", sim.whole_scene().fingerprint);
@@ -193,27 +232,33 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
       hdf5::write_double_attribute(file, "adaptive_smallest_step", c.smallest_step);
       hdf5::write_int64_attribute(file, "adaptive_reduced_steps", c.reduced_steps);
     }
-    hdf5::write_int64_attribute(file, "bodies",
-                                static_cast<long long>(sim.whole_scene().bodies.size()));
-    for (std::size_t b = 0; b < sim.whole_scene().bodies.size(); ++b) {
-      const Body& body = sim.whole_scene().bodies[b].body;
+    const auto& bodies = shared ? sim.scene().bodies : sim.whole_scene().bodies;
+    hdf5::write_int64_attribute(file, "bodies", static_cast<long long>(bodies.size()));
+    for (std::size_t b = 0; b < bodies.size(); ++b) {
+      const BodyShare share = body_share(sim, b);
+      const Body& body = *share.body;
       Handle group(H5Gcreate2(file, ("body_" + std::to_string(b)).c_str(), H5P_DEFAULT, H5P_DEFAULT,
                               H5P_DEFAULT),
                    H5Gclose, "create a body group");
       hdf5::write_string_attribute(group, "name", body.name);
-      hdf5::write_int64_attribute(group, "points", static_cast<long long>(body.size()));
+      hdf5::write_int64_attribute(group, "points", static_cast<long long>(share.whole_points));
       hdf5::write_int64_attribute(group, "initially_failed",
                                   static_cast<long long>(c.initially_failed[b]));
-      hdf5::write_vectors(group, "displacement", body.displacement);
-      hdf5::write_vectors(group, "velocity", body.velocity);
-      hdf5::write_vectors(group, "acceleration", body.acceleration);
-      hdf5::write_vectors(group, "force_density", body.force_density);
-      hdf5::write_vectors(group, "external_force_density", body.external_force_density);
-      hdf5::write_doubles(group, "strain_energy_density", body.strain_energy_density.data(),
-                          body.size(), 1);
-      hdf5::write_bytes(group, "bond_intact", body.bond_intact);
-      hash_body(hash, body, c.initially_failed[b]);
-      if (const auto& rigid = sim.whole_scene().bodies[b].rigid) {
+      const auto vectors = [&](const char* name, const std::vector<Vec3>& v) {
+        hdf5::write_vectors(group, name, rows_of(share, v, 1), share.points);
+      };
+      vectors("displacement", body.displacement);
+      vectors("velocity", body.velocity);
+      vectors("acceleration", body.acceleration);
+      vectors("force_density", body.force_density);
+      vectors("external_force_density", body.external_force_density);
+      hdf5::write_doubles(group, "strain_energy_density",
+                          rows_of(share, body.strain_energy_density, 1).data(), share.points, 1);
+      hdf5::write_bytes(group, "bond_intact", bond_rows(share), share.bonds);
+      hash.text(body.name);
+      hash.value(c.initially_failed[b]);
+      rows_hash += point_rows_hash(share, b);
+      if (const auto& rigid = bodies[b].rigid) {
         const RigidMotion::State r = rigid->state();
         const double packed[kRigidState] = {r.centre.x(),           r.centre.y(),
                                             r.centre.z(),           r.velocity.x(),
@@ -223,7 +268,10 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
                                             r.orientation.x(),      r.orientation.y(),
                                             r.orientation.z(),      r.couple.x(),
                                             r.couple.y(),           r.couple.z()};
-        hdf5::write_doubles(group, "rigid_state", packed, kRigidState, 1);
+        hdf5::write_doubles(group, "rigid_state", packed,
+                            shared && !ranks::root() ? hdf5::RowShare::none(kRigidState)
+                                                     : hdf5::RowShare::all(kRigidState),
+                            1);
         hash.bytes(packed, sizeof packed);
       }
     }
@@ -231,6 +279,9 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
       // Evaluation count, dissipation and one row per spring: the pair's four indices (the
       // wall partner's point as -1) and the spring.
       const ContactManager::HistoryState h = sim.contact_history();
+      // Springs (friction) keep a run on replicated state (distribution.hpp): none here.
+      if (shared && ranks::any(!h.rows.empty()))
+        throw std::logic_error("checkpoint: contact springs in a distributed run");
       Handle group(H5Gcreate2(file, "contact", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
                    "create contact group");
       hdf5::write_int64_attribute(group, "evaluation", static_cast<long long>(h.evaluation));
@@ -251,10 +302,12 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
         hdf5::write_vectors(group, "spring", spring);
       }
     }
+    hash.value(shared ? ranks::sum_wrapping(rows_hash) : rows_hash);
     hdf5::write_string_attribute(file, "content_hash", hash.hex());
     if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0)
       throw std::runtime_error("HDF5: cannot flush " + temp);
   }
+  if (shared && !ranks::root()) return;
   std::error_code ec;
   std::filesystem::rename(temp, path, ec);
   if (ec) throw std::runtime_error(path + ": cannot write the checkpoint: " + ec.message());
@@ -273,7 +326,7 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
       throw CheckpointError(path + ": written by an older ckpd (" + format +
                             ", without checksums or contact history): run the case again from "
                             "the start");
-    if (format != kFormat)
+    if (format != kFormat && format != kFormat3)
       throw CheckpointError(path + ": not a ckpd checkpoint of a known format");
     if (hdf5::read_string_attribute(file, "case_fingerprint") != sim.whole_scene().fingerprint) {
       std::string difference;
@@ -338,6 +391,7 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
           path + ": step " + std::to_string(c.step) + " and time " + format_seconds(c.time) +
           " s do not agree with dt = " + format_seconds(dt) + " s (corrupted checkpoint)");
     ContentHash hash;
+    std::uint64_t rows_hash = 0;
     hash_counters(hash, dt, c, adaptive);
     for (std::size_t b = 0; b < scene.bodies.size(); ++b) {
       Body& body = scene.bodies[b].body;
@@ -375,7 +429,13 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
           throw CheckpointError(where + ": bond_intact[" + std::to_string(k) +
                                 "] = " + std::to_string(body.bond_intact[k]) +
                                 ", not 0 (broken) or 1 (intact) (corrupted checkpoint)");
-      hash_body(hash, body, c.initially_failed.back());
+      if (format == kFormat3) {
+        hash_body(hash, body, c.initially_failed.back());
+      } else {
+        hash.text(body.name);
+        hash.value(c.initially_failed.back());
+        rows_hash += point_rows_hash(whole_body_share(body), b);
+      }
       if (auto& rigid = scene.bodies[b].rigid) {
         // centre, velocity, angular momentum, orientation quaternion (w, x, y, z), couple
         const std::vector<double> p = hdf5::read_doubles(group, "rigid_state", kRigidState);
@@ -404,6 +464,7 @@ void read_checkpoint(const std::string& path, Simulation& sim) {
       }
       hash_contact(hash, h);
     }
+    if (format != kFormat3) hash.value(rows_hash);
     if (hdf5::read_string_attribute(file, "content_hash") != hash.hex())
       throw CheckpointError(path +
                             ": the content hash does not match the stored one (the file "

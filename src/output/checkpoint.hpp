@@ -17,7 +17,9 @@ class CheckpointError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Writes sim.whole_scene() (a distributed run: rank 0's, gathered).
+// Writes the whole scene: in one process sim.whole_scene(); in a distributed run with shared
+// files (output_share.hpp) every rank calls it and writes its owned points' rows, otherwise rank 0
+// writes its whole scene, gathered before.
 void write_checkpoint(const std::string& path, const Simulation& sim);
 
 // Overwrites the state of `sim` (built from the same case) with the checkpoint's: a distributed

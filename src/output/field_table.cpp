@@ -14,10 +14,6 @@ namespace ckpd {
 
 namespace {
 
-const Body& body_of(const Simulation& sim, std::size_t b) {
-  return sim.whole_scene().bodies[b].body;
-}
-
 // A row for a per-point vector: `get(body, i)` gives the value at point i.
 template <class Get>
 FieldSpec vector_field(std::string name, std::string description, Get get) {
@@ -26,8 +22,8 @@ FieldSpec vector_field(std::string name, std::string description, Get get) {
           FieldNumber::float64,
           false,
           std::move(description),
-          [get](const Simulation& sim, std::size_t b, std::vector<double>& out) {
-            const Body& body = body_of(sim, b);
+          [get](const FieldSource& source, std::vector<double>& out) {
+            const Body& body = source.body;
             out.resize(3 * body.size());
             for (std::size_t i = 0; i < body.size(); ++i) {
               const Vec3 v = get(body, i);
@@ -43,10 +39,10 @@ FieldSpec scalar_field(std::string name, FieldNumber number, std::string descrip
           number,
           false,
           std::move(description),
-          [get](const Simulation& sim, std::size_t b, std::vector<double>& out) {
-            const Body& body = body_of(sim, b);
+          [get](const FieldSource& source, std::vector<double>& out) {
+            const Body& body = source.body;
             out.resize(body.size());
-            for (std::size_t i = 0; i < body.size(); ++i) out[i] = get(body, b, i);
+            for (std::size_t i = 0; i < body.size(); ++i) out[i] = get(source, i);
           }};
 }
 
@@ -64,33 +60,35 @@ std::vector<FieldSpec> make_table() {
                            [](const Body& b, std::size_t i) { return b.force_density[i]; }));
   t.push_back({"damage", 1, FieldNumber::float64, false,
                "fraction of the point's bonds that failed during the run",
-               [](const Simulation& sim, std::size_t b, std::vector<double>& out) {
-                 point_damage(body_of(sim, b), out);
+               [](const FieldSource& source, std::vector<double>& out) {
+                 point_damage(source.body, out);
                }});
   t.push_back({"free_surface", 1, FieldNumber::float64, false,
                "D = 1 - tr_w(phi) / d, the state-based weight over intact bonds (seed 002): 0 "
                "inside, about 1/2 on a flat surface",
-               [](const Simulation& sim, std::size_t b, std::vector<double>& out) {
-                 state_based_free_surface(body_of(sim, b), out);
+               [](const FieldSource& source, std::vector<double>& out) {
+                 state_based_free_surface(source.body, out, source.whole);
                }});
   t.push_back({"strain_energy_density", 1, FieldNumber::float64, true, "J/m^3 (J/m^2 in 2D)",
-               [](const Simulation& sim, std::size_t b, std::vector<double>& out) {
-                 const Body& body = body_of(sim, b);
+               [](const FieldSource& source, std::vector<double>& out) {
+                 const Body& body = source.body;
                  out.assign(body.strain_energy_density.begin(), body.strain_energy_density.end());
                }});
   t.push_back(
       scalar_field("volume", FieldNumber::float64, "the point's volume, m^3 (area in 2D)",
-                   [](const Body& body, std::size_t, std::size_t i) { return body.volume[i]; }));
-  t.push_back(
-      scalar_field("body_id", FieldNumber::int32, "index of the body in the case's list",
-                   [](const Body&, std::size_t b, std::size_t) { return static_cast<double>(b); }));
+                   [](const FieldSource& source, std::size_t i) { return source.body.volume[i]; }));
+  t.push_back(scalar_field(
+      "body_id", FieldNumber::int32, "index of the body in the case's list",
+      [](const FieldSource& source, std::size_t) { return static_cast<double>(source.index); }));
   t.push_back(scalar_field(
       "point_id", FieldNumber::int32, "index of the point in its body (as in checkpoints)",
-      [](const Body&, std::size_t, std::size_t i) { return static_cast<double>(i); }));
+      [](const FieldSource& source, std::size_t i) {
+        return static_cast<double>(source.whole_index ? (*source.whole_index)[i] : i);
+      }));
   t.push_back({"deformation_gradient", 9, FieldNumber::float64, false,
                "non-local F (correspondence estimate over intact bonds), row-major",
-               [](const Simulation& sim, std::size_t b, std::vector<double>& out) {
-                 const Body& body = body_of(sim, b);
+               [](const FieldSource& source, std::vector<double>& out) {
+                 const Body& body = source.body;
                  out.resize(9 * body.size());
                  for (std::size_t i = 0; i < body.size(); ++i) {
                    const Eigen::Matrix3d F = deformation_gradient(body, i);
@@ -100,8 +98,8 @@ std::vector<FieldSpec> make_table() {
                }});
   t.push_back({"green_lagrange_strain", 6, FieldNumber::float64, false,
                "E = (F^T F - I) / 2 (xx, xy, xz, yy, yz, zz)",
-               [](const Simulation& sim, std::size_t b, std::vector<double>& out) {
-                 const Body& body = body_of(sim, b);
+               [](const FieldSource& source, std::vector<double>& out) {
+                 const Body& body = source.body;
                  out.resize(6 * body.size());
                  for (std::size_t i = 0; i < body.size(); ++i) {
                    const Eigen::Matrix3d F = deformation_gradient(body, i);
@@ -113,8 +111,8 @@ std::vector<FieldSpec> make_table() {
                }});
   t.push_back({"dilatation", 1, FieldNumber::float64, false,
                "det F - 1: relative change of volume (area in 2D)",
-               [](const Simulation& sim, std::size_t b, std::vector<double>& out) {
-                 const Body& body = body_of(sim, b);
+               [](const FieldSource& source, std::vector<double>& out) {
+                 const Body& body = source.body;
                  out.resize(body.size());
                  for (std::size_t i = 0; i < body.size(); ++i)
                    out[i] = deformation_gradient(body, i).determinant() - 1;
@@ -122,8 +120,8 @@ std::vector<FieldSpec> make_table() {
   t.push_back({"stress", 6, FieldNumber::float64, false,
                "Cauchy stress from the virial of the point's own energy, tau / det F (xx, xy, "
                "xz, yy, yz, zz), Pa; computed only for frames that write it",
-               [](const Simulation& sim, std::size_t b, std::vector<double>& out) {
-                 const Body& body = body_of(sim, b);
+               [](const FieldSource& source, std::vector<double>& out) {
+                 const Body& body = source.body;
                  out.resize(6 * body.size());
                  if (body.family.offset.size() != body.size() + 1) {  // rigid: no stress
                    std::fill(out.begin(), out.end(), std::numeric_limits<double>::quiet_NaN());

@@ -9,7 +9,9 @@
 #include <stdexcept>
 
 #include "src/engine/contact_coupling.hpp"
+#include "src/engine/ranks.hpp"
 #include "src/output/hdf5_io.hpp"
+#include "src/output/output_share.hpp"
 
 namespace ckpd {
 
@@ -55,65 +57,71 @@ bool wall_field(const std::string& name) {
          name == "body_id" || name == "point_id";
 }
 
-// A mesh wall's surface at the wall's current pose: x = centre + R (X - c0).
+// A mesh wall's surface at the wall's current pose: x = centre + R (X - c0). Every rank of a
+// shared file makes the same calls; `writes` (rank 0 there) writes the rows.
 void write_wall_group(hid_t group, const SceneBody& sb, std::size_t b,
-                      const std::vector<std::string>& fields) {
+                      const std::vector<std::string>& fields, bool writes) {
   const TriangleMesh& surface = *sb.wall_surface;
   const MeshWall::Pose pose = sb.wall->pose(point_set(sb));
   const Vec3& c0 = sb.wall->carriers().centre;
   const std::size_t n = surface.vertex.size();
+  const auto share = [writes](std::size_t rows) {
+    return writes ? hdf5::RowShare::all(rows) : hdf5::RowShare::none(rows);
+  };
   std::vector<Vec3> x(n);
   for (std::size_t v = 0; v < n; ++v) x[v] = pose.centre + pose.rotation * (surface.vertex[v] - c0);
   std::vector<std::int32_t> cells;
   cells.reserve(3 * surface.triangle.size());
   for (const auto& t : surface.triangle)
     for (std::uint32_t v : t) cells.push_back(static_cast<std::int32_t>(v));
-  hdf5::write_int32(group, "triangles", cells, 3);
+  hdf5::write_int32(group, "triangles", cells, share(surface.triangle.size()), 3);
   for (const std::string& f : fields) {
     if (f == "position") {
-      hdf5::write_vectors(group, f, x);
+      hdf5::write_vectors(group, f, x, share(n));
     } else if (f == "reference_position") {
-      hdf5::write_vectors(group, f, surface.vertex);
+      hdf5::write_vectors(group, f, surface.vertex, share(n));
     } else if (f == "displacement") {
       std::vector<Vec3> u(n);
       for (std::size_t v = 0; v < n; ++v) u[v] = x[v] - surface.vertex[v];
-      hdf5::write_vectors(group, f, u);
+      hdf5::write_vectors(group, f, u, share(n));
     } else if (f == "body_id") {
-      hdf5::write_int32(group, f, std::vector<std::int32_t>(n, static_cast<std::int32_t>(b)));
+      hdf5::write_int32(group, f, std::vector<std::int32_t>(n, static_cast<std::int32_t>(b)),
+                        share(n), 1);
     } else if (f == "point_id") {
       std::vector<std::int32_t> id(n);
       for (std::size_t v = 0; v < n; ++v) id[v] = static_cast<std::int32_t>(v);
-      hdf5::write_int32(group, f, id);
+      hdf5::write_int32(group, f, id, share(n), 1);
     }
   }
 }
 
+// A point body's fields: every row of the whole body, or in a shared file this rank's rows
+// (output_share.hpp), each field taken from the body the rows are in.
 void write_point_group(hid_t group, const Simulation& sim, std::size_t b,
                        const std::vector<std::string>& fields, std::vector<double>& buffer) {
-  const std::size_t n = sim.whole_scene().bodies[b].body.size();
+  const BodyShare share = body_share(sim, b);
   // The Polyvertex connectivity: point k is cell k.
-  std::vector<std::int32_t> ids(n);
-  for (std::size_t i = 0; i < n; ++i) ids[i] = static_cast<std::int32_t>(i);
-  hdf5::write_int32(group, "connectivity", ids);
+  const std::vector<std::int32_t> ids(share.whole.begin(), share.whole.end());
+  hdf5::write_int32(group, "connectivity", ids, share.points, 1);
+  const FieldSource source{*share.body, b, share.whole_of_local,
+                           share.whole_of_local ? &sim.whole_scene().bodies[b].body : nullptr};
   for (const std::string& f : fields) {
     const FieldSpec& spec = *find_field(f);
-    spec.extract(sim, b, buffer);
+    spec.extract(source, buffer);
     const auto columns = static_cast<std::size_t>(spec.components);
+    const std::vector<double> rows = rows_of(share, buffer, columns);
     if (spec.number == FieldNumber::int32) {
-      std::vector<std::int32_t> values(buffer.size());
-      for (std::size_t k = 0; k < buffer.size(); ++k)
-        values[k] = static_cast<std::int32_t>(buffer[k]);
-      hdf5::write_int32(group, f, values, columns);
+      const std::vector<std::int32_t> values(rows.begin(), rows.end());
+      hdf5::write_int32(group, f, values, share.points, columns);
     } else {
-      hdf5::write_doubles(group, f, buffer.data(), n, columns);
+      hdf5::write_doubles(group, f, rows.data(), share.points, columns);
     }
   }
 }
 
 }  // namespace
 
-FieldWriter::FieldWriter(std::string directory, std::vector<std::string> fields,
-                         long long resume_after_step)
+FieldWriter::FieldWriter(ListOnly, std::string directory, const std::vector<std::string>& fields)
     : directory_(std::move(directory)) {
   fields_.push_back("position");
   for (const std::string& f : fields) {
@@ -122,6 +130,18 @@ FieldWriter::FieldWriter(std::string directory, std::vector<std::string> fields,
                                   ")");
     if (std::find(fields_.begin(), fields_.end(), f) == fields_.end()) fields_.push_back(f);
   }
+}
+
+FieldWriter FieldWriter::follower(std::string directory, const std::vector<std::string>& fields,
+                                  std::size_t kept) {
+  FieldWriter writer(ListOnly{}, std::move(directory), fields);
+  writer.frames_.resize(kept);  // only their number is used: the next frame's name
+  return writer;
+}
+
+FieldWriter::FieldWriter(std::string directory, const std::vector<std::string>& fields,
+                         long long resume_after_step)
+    : FieldWriter(ListOnly{}, std::move(directory), fields) {
   std::error_code ec;
   std::filesystem::create_directories(directory_ + "/fields", ec);
   if (ec) throw std::runtime_error(directory_ + "/fields: cannot create: " + ec.message());
@@ -180,12 +200,17 @@ void FieldWriter::write_frame(const Simulation& sim) {
   const std::string final_path = directory_ + "/" + name;
   const std::string temp_path = final_path + ".partial";
   Frame frame{name, sim.time(), {}, {}};
+  // A shared file: every rank writes its points into it; rank 0 renames it and writes the XDMF.
+  const bool shared = shared_output(sim);
+  const bool root = !shared || ranks::root();
   {
-    Handle file(H5Fcreate(temp_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
-                "create " + temp_path);
+    Handle file(shared ? hdf5::create_shared_file(temp_path)
+                       : H5Fcreate(temp_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
+                H5Fclose, "create " + temp_path);
     hdf5::write_double_attribute(file, "time", sim.time());
     hdf5::write_int64_attribute(file, "step", sim.step());
-    const auto& bodies = sim.whole_scene().bodies;
+    // Rigid bodies and walls as this process moved them (in a shared file: alike on every rank).
+    const auto& bodies = shared ? sim.scene().bodies : sim.whole_scene().bodies;
     std::vector<double> buffer;
     for (std::size_t b = 0; b < bodies.size(); ++b) {
       const SceneBody& sb = bodies[b];
@@ -195,23 +220,25 @@ void FieldWriter::write_frame(const Simulation& sim) {
       hdf5::write_string_attribute(group, "name", sb.body.name);
       hdf5::write_int64_attribute(group, "dimension", sb.body.dimension);
       if (sb.wall && sb.wall_surface) {
-        write_wall_group(group, sb, b, fields_);
+        write_wall_group(group, sb, b, fields_, root);
         frame.points.push_back(sb.wall_surface->vertex.size());
         frame.triangles.push_back(sb.wall_surface->triangle.size());
       } else {
         write_point_group(group, sim, b, fields_, buffer);
-        frame.points.push_back(sb.body.size());
+        frame.points.push_back(sim.whole_scene().bodies[b].body.size());
         frame.triangles.push_back(0);
       }
     }
     if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0)
       throw std::runtime_error("HDF5: cannot flush " + temp_path);
   }
-  std::error_code ec;
-  std::filesystem::rename(temp_path, final_path, ec);
-  if (ec) throw std::runtime_error(final_path + ": cannot write: " + ec.message());
+  if (root) {
+    std::error_code ec;
+    std::filesystem::rename(temp_path, final_path, ec);
+    if (ec) throw std::runtime_error(final_path + ": cannot write: " + ec.message());
+  }
   frames_.push_back(std::move(frame));
-  write_xdmf(sim);
+  if (root) write_xdmf(sim);
 }
 
 void FieldWriter::write_xdmf(const Simulation& sim) const {

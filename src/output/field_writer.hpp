@@ -6,7 +6,9 @@
 // surface, moved with the wall's rigid motion. Heavy-data paths are relative to the XDMF file.
 // The fields are the rows of src/output/field_table.hpp. Each frame file is written under
 // a temporary name and renamed when complete, and the XDMF is rewritten the same way after each
-// frame, so a run killed at any moment leaves every complete frame readable.
+// frame, so a run killed at any moment leaves every complete frame readable. The ranks of a
+// distributed run with parallel HDF5 write each frame together, each its own points
+// (output_share.hpp); rank 0 alone names, renames and indexes the frames.
 #include <string>
 #include <vector>
 
@@ -24,8 +26,13 @@ class FieldWriter {
   // cannot be written.
   // With `resume_after_step` >= 0 (a restart), frames already in the directory up to that step
   // are kept and numbering continues after them; otherwise earlier frames are removed.
-  FieldWriter(std::string directory, std::vector<std::string> fields,
-              long long resume_after_step = -1);
+  FieldWriter(std::string directory, const std::vector<std::string>& fields,
+              long long resume_after_step);
+  // In a run whose ranks share the frame files (output_share.hpp), a rank other than 0: it writes
+  // its points into the frames that rank 0's writer (which kept `kept` frames of a run it
+  // continues) names, and touches no other file.
+  static FieldWriter follower(std::string directory, const std::vector<std::string>& fields,
+                              std::size_t kept);
 
   // Writes the current state as the next frame.
   void write_frame(const Simulation& sim);
@@ -33,6 +40,8 @@ class FieldWriter {
   // Whether strain_energy_density is written (it needs an energy evaluation on frame steps).
   bool needs_energy() const;
   std::size_t frames() const { return frames_.size(); }
+  // A rank other than 0 whose frames rank 0 writes alone: one more frame was written.
+  void count_frame() { frames_.emplace_back(); }
 
  private:
   struct Frame {
@@ -41,6 +50,8 @@ class FieldWriter {
     std::vector<std::size_t> points;     // per body: points, or a wall's surface vertices
     std::vector<std::size_t> triangles;  // per body: 0 for a point body
   };
+  struct ListOnly {};  // checks the field list, touches no file
+  FieldWriter(ListOnly, std::string directory, const std::vector<std::string>& fields);
   void write_xdmf(const Simulation& sim) const;
   static std::string frame_name(std::size_t index);
 

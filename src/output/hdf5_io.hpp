@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bodies/vec.hpp"
@@ -28,13 +29,41 @@ class Handle {
 // HDF5's own error printing off: errors come back as exceptions.
 void silence_errors();
 
+// A file the ranks of a distributed run write together (parallel HDF5 over MPI-IO): every rank
+// makes the same calls in the same order (groups, attributes and datasets alike), each writing its
+// own rows of the datasets (RowShare). Only in a build with parallel HDF5 (shared_files()); its
+// handle closes with H5Fclose, a collective.
+bool shared_files();
+hid_t create_shared_file(const std::string& path);
+
+// The rows (first dimension) of a dataset this process writes: all of them, or in a shared file
+// its own runs of rows (first, count), increasing and disjoint; its data holds just those rows,
+// one run after the other. The other processes write the rest in the same call.
+struct RowShare {
+  std::size_t rows = 0;  // the whole dataset's
+  std::vector<std::pair<std::size_t, std::size_t>> runs;
+  static RowShare all(std::size_t rows);
+  static RowShare none(std::size_t rows) { return {rows, {}}; }
+  // Appends rows [first, first + count), after the last run (merged with it when adjacent).
+  void add(std::size_t first, std::size_t count);
+  std::size_t mine() const;  // rows this process writes
+};
+
 void write_doubles(hid_t group, const std::string& name, const double* data, std::size_t rows,
                    std::size_t columns);
+void write_doubles(hid_t group, const std::string& name, const double* data, const RowShare& share,
+                   std::size_t columns);
 void write_vectors(hid_t group, const std::string& name, const std::vector<Vec3>& data);
+void write_vectors(hid_t group, const std::string& name, const std::vector<Vec3>& data,
+                   const RowShare& share);
 // `columns` > 1: a (data.size() / columns) x columns array.
 void write_int32(hid_t group, const std::string& name, const std::vector<std::int32_t>& data,
                  std::size_t columns = 1);
+void write_int32(hid_t group, const std::string& name, const std::vector<std::int32_t>& data,
+                 const RowShare& share, std::size_t columns);
 void write_bytes(hid_t group, const std::string& name, const std::vector<std::uint8_t>& data);
+void write_bytes(hid_t group, const std::string& name, const std::vector<std::uint8_t>& data,
+                 const RowShare& share);
 void write_double_attribute(hid_t object, const std::string& name, double value);
 void write_int64_attribute(hid_t object, const std::string& name, long long value);
 void write_string_attribute(hid_t object, const std::string& name, const std::string& value);

@@ -10,6 +10,7 @@
 
 #include "src/engine/ranks.hpp"
 #include "src/output/checkpoint.hpp"
+#include "src/output/output_share.hpp"
 
 namespace ckpd {
 
@@ -18,11 +19,13 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
       options_(std::move(options)),
       resume_(options_.restarted_from.empty() ? -1 : sim.step()),
       total_(sim.planned_steps()),
-      progress_(options_.progress, sim.planned_steps()) {
+      progress_(options_.progress, sim.planned_steps()),
+      writes_(!options_.out.empty() && ranks::root()),
+      shared_(!options_.out.empty() && shared_output(sim)) {
   const OutputSettings& o = sim_.scene().output;
   interval_ = o.history_interval > 0 ? o.history_interval : std::max<long long>(1, total_ / 200);
   std::string failure;
-  if (!options_.out.empty()) {
+  if (writes_) {
     try {
       const std::string& out = options_.out;
       std::error_code ec;
@@ -47,11 +50,17 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
   // wait for it (the caller prints rank 0's message once).
   if (ranks::any(!failure.empty()))
     throw std::runtime_error(failure.empty() ? "rank 0 could not prepare the output" : failure);
+  // Every rank counts the frames, so that all know when one is due; with shared files the other
+  // ranks write their points into them.
+  const long long kept =
+      ranks::from_root(fields_ ? static_cast<long long>(fields_->frames()) : -1LL);
+  if (!ranks::root() && kept >= 0)
+    fields_.emplace(FieldWriter::follower(options_.out, o.fields, static_cast<std::size_t>(kept)));
   // A distributed run: rank 0's whole scene holds every rank's state for the output.
   gather();
   if (resume_ < 0 && history_) history_->write_row(sim_);
   if (resume_ < 0) row_step_ = sim_.step();
-  if (fields_ && (resume_ < 0 || fields_->frames() == 0)) fields_->write_frame(sim_);
+  if (fields_ && (resume_ < 0 || fields_->frames() == 0)) write_frame();
   progress_.energy_evaluated(sim_);
   // Model breakdown (inverted tetrahedra/triangles) is reported once, when first seen.
   report_inversion();
@@ -103,24 +112,38 @@ void RunDriver::step(bool with_energy) {
   if (energy) progress_.energy_evaluated(sim_);
   const long long every = sim_.scene().output.checkpoint_interval;
   const bool checkpoint = every > 0 && sim_.step() % every == 0;
-  // Every rank knows what is due: in a distributed run all take part in the gather.
-  if (row || frame || checkpoint) gather();
+  // Every rank knows what is due: in a distributed run all take part in the gather (frames and
+  // checkpoints in shared files need none).
+  if (row || ((frame || checkpoint) && !shared_)) gather();
   if (row) {
     if (history_) history_->write_row(sim_);
     row_step_ = sim_.step();
   }
   report_inversion();
-  if (frame) fields_->write_frame(sim_);
+  if (frame) write_frame();
   progress_.update(sim_);
   if (checkpoint) write_checkpoint();
 }
 
+void RunDriver::write_frame() {
+  // A frame in a shared file takes every rank; otherwise rank 0 writes it and the others count it.
+  if (writes_ || shared_)
+    fields_->write_frame(sim_);
+  else
+    fields_->count_frame();
+}
+
 void RunDriver::write_checkpoint() {
-  // On every rank (the gather of a distributed run is a collective); rank 0 writes.
+  // On every rank: the gather of a distributed run, or with shared files the write, is a
+  // collective; otherwise rank 0 writes.
   if (checkpoint_step_ == sim_.step()) return;
   checkpoint_step_ = sim_.step();
+  if (shared_) {
+    ckpd::write_checkpoint(checkpoint_path(), sim_);
+    return;
+  }
   gather();
-  if (!options_.out.empty()) ckpd::write_checkpoint(checkpoint_path(), sim_);
+  if (writes_) ckpd::write_checkpoint(checkpoint_path(), sim_);
 }
 
 nlohmann::ordered_json RunDriver::summary(const std::string& status,
@@ -152,7 +175,7 @@ void RunDriver::stop(const std::string& status, const std::string& message) {
   gather();
   if (refresh && history_) history_->write_row(sim_);
   row_step_ = sim_.step();
-  if (!options_.out.empty()) write_json(options_.out + "/summary.json", summary(status, message));
+  if (writes_) write_json(options_.out + "/summary.json", summary(status, message));
   if (status == "completed") {
     std::ostringstream line;
     line << "completed " << sim_.step() << " steps to t = " << sim_.time() << " s in " << seconds()

@@ -18,7 +18,10 @@
 namespace ckpd {
 
 struct RunDriverOptions {
-  std::string out;             // output folder (created); empty: no files at all
+  // Output folder (created by rank 0); empty: no files at all. The same on every rank of an MPI
+  // run: rank 0 writes the files, except that the ranks of a distributed run write frames and
+  // checkpoints together where HDF5 is parallel (output_share.hpp).
+  std::string out;
   std::string restarted_from;  // the checkpoint the simulation was restored from, if any
   bool progress = false;       // the progress line on stdout
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
@@ -66,6 +69,7 @@ class RunDriver {
   // once per step: a checkpoint after a row or frame of the same step does not gather again.
   void gather();
   void report_inversion();
+  void write_frame();
 
   Simulation& sim_;
   RunDriverOptions options_;
@@ -80,6 +84,8 @@ class RunDriver {
   long long checkpoint_step_ = -1;  // the step of the last checkpoint
   long long gathered_step_ = -1;    // the step whose state the whole scene holds
   bool inversion_reported_ = false;
+  bool writes_;  // this process writes the files (rank 0 of a run with an output folder)
+  bool shared_;  // frames and checkpoints written by all ranks together (output_share.hpp)
 };
 
 }  // namespace ckpd

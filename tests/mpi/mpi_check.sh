@@ -5,10 +5,12 @@
 # must equal the uninterrupted run; bad input must print one error and exit 2 on every rank; a
 # body with a far field (evaluated whole on every rank) must agree at 1 and 2 ranks; SIGTERM sent
 # to one rank must stop every rank after the same step with a checkpoint that continues to the
-# uninterrupted run. Exit 77 (skipped) for a build without MPI.
+# uninterrupted run; the field frames and checkpoint of runs at 1, 2 and 3 ranks must be the same
+# files (compare_files.py). Exit 77 (skipped) for a build without MPI.
 # SCHEME (distributed or replicated): the scheme summary.json says the ranks ran on.
 #   mpi_check.sh CKPD SOURCE_DIR WORK_DIR equivalence CASE SCHEME | restart CASE SCHEME | errors |
-#                far_field CASE SCHEME | signal CASE SCHEME
+#                far_field CASE SCHEME | signal CASE SCHEME | files CASE SCHEME |
+#                files_gathered CASE SCHEME
 set -eu
 ckpd=$1 src=$2 work=$3 what=$4
 case_file=${5:+$src/$5}
@@ -148,6 +150,40 @@ signal)
     --set output.field_interval=$steps
   $python "$src/tests/mpi/compare_runs.py" "$work/whole" "$work/split" \
     --extra-history-step "${stopped#* }"
+  ;;
+files | files_gathered)
+  # Frames off the history rows (every 30 steps; rows every 20), every point field, and a
+  # checkpoint at step 120: the files the ranks write must be the single process's, and, where
+  # the build has parallel HDF5 (CKPD_SHARED_FILES=ON), written by every rank into them unless
+  # the run is told to gather them to rank 0 (files_gathered: --gather-output).
+  gather=""
+  shared=${CKPD_SHARED_FILES:-OFF}
+  [ "$what" = files_gathered ] && { gather=--gather-output; shared=OFF; }
+  fields=position,reference_position,displacement,velocity,force_density,damage,free_surface
+  fields=$fields,strain_energy_density,volume,body_id,point_id,deformation_gradient
+  fields=$fields,green_lagrange_strain,dilatation,stress
+  for np in 1 2 3; do
+    if [ $np = 1 ]; then run="env OMP_NUM_THREADS=1"; else run="mpi $np"; fi
+    $run "$ckpd" run "$case_file" --out "$work/np$np" --quiet --set output.field_interval=30 \
+      --set output.checkpoint_interval=120 --set "output.fields=[$fields]" $gather
+  done
+  ran_on "$work/np2"
+  ran_on "$work/np3"
+  $python - "$work/np3/summary.json" "$shared" <<'PY'
+import json, sys
+how = json.load(open(sys.argv[1]))["decomposition"]["frames_and_checkpoints"]
+print(f"frames and checkpoints: {how}")
+shared = sys.argv[2].upper() in ("ON", "1", "TRUE")
+sys.exit(0 if how.startswith("written by every rank") == shared else 1)
+PY
+  $python "$src/tests/mpi/compare_files.py" "$work/np1" "$work/np2" "$work/np3"
+  # The checkpoint two ranks wrote continues in one process (its content hash and every row
+  # accepted) to the uninterrupted run.
+  OMP_NUM_THREADS=1 "$ckpd" run "$case_file" --out "$work/np2" --quiet --set output.field_interval=30 \
+    --set output.checkpoint_interval=120 --set "output.fields=[$fields]" \
+    --restart "$work/np2/checkpoint.h5"
+  grep -q '"ranks": 1' "$work/np2/summary.json"
+  $python "$src/tests/mpi/compare_runs.py" "$work/np1" "$work/np2"
   ;;
 errors)
   # Each rank writes its exit status; stderr must hold the error exactly once.
