@@ -21,7 +21,8 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
       total_(sim.planned_steps()),
       progress_(options_.progress, sim.planned_steps()),
       writes_(!options_.out.empty() && ranks::root()),
-      shared_(!options_.out.empty() && shared_output(sim)) {
+      shared_(!options_.out.empty() && shared_output(sim)),
+      row_gathers_(!sim.scene().output.history.empty()) {
   const OutputSettings& o = sim_.scene().output;
   interval_ = o.history_interval > 0 ? o.history_interval : std::max<long long>(1, total_ / 200);
   std::string failure;
@@ -112,9 +113,10 @@ void RunDriver::step(bool with_energy) {
   if (energy) progress_.energy_evaluated(sim_);
   const long long every = sim_.scene().output.checkpoint_interval;
   const bool checkpoint = every > 0 && sim_.step() % every == 0;
-  // Every rank knows what is due: in a distributed run all take part in the gather (frames and
-  // checkpoints in shared files need none).
-  if (row || ((frame || checkpoint) && !shared_)) gather();
+  // Every rank knows what is due: in a distributed run all take part in the gather. A row needs
+  // it only for the case's own history quantities (the default columns are the books, summed over
+  // ranks every step), frames and checkpoints in shared files never.
+  if ((row && row_gathers_) || ((frame || checkpoint) && !shared_)) gather();
   if (row) {
     if (history_) history_->write_row(sim_);
     row_step_ = sim_.step();

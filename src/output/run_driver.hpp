@@ -84,8 +84,9 @@ class RunDriver {
   long long checkpoint_step_ = -1;  // the step of the last checkpoint
   long long gathered_step_ = -1;    // the step whose state the whole scene holds
   bool inversion_reported_ = false;
-  bool writes_;  // this process writes the files (rank 0 of a run with an output folder)
-  bool shared_;  // frames and checkpoints written by all ranks together (output_share.hpp)
+  bool writes_;       // this process writes the files (rank 0 of a run with an output folder)
+  bool shared_;       // frames and checkpoints written by all ranks together (output_share.hpp)
+  bool row_gathers_;  // a history row reads the whole scene (the case's own history quantities)
 };
 
 }  // namespace ckpd
