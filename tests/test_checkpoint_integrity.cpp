@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "run_helpers.hpp"
+#include "src/output/hdf5_io.hpp"
 
 using namespace ckpd::testing;
 
@@ -124,76 +125,46 @@ struct Fnv {
   }
 };
 
-template <class T>
-std::vector<T> read_all(hid_t f, const char* dataset, hid_t type) {
-  const hid_t d = H5Dopen2(f, dataset, H5P_DEFAULT);
-  const hid_t space = H5Dget_space(d);
-  std::vector<T> data(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
-  H5Dread(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data());
-  H5Sclose(space);
-  H5Dclose(d);
-  return data;
-}
-
-template <class T>
-T read_attribute(hid_t object, const char* name, hid_t type) {
-  T value{};
-  const hid_t a = H5Aopen(object, name, H5P_DEFAULT);
-  H5Aread(a, type, &value);
-  H5Aclose(a);
-  return value;
-}
-
-void write_string_attribute(hid_t object, const char* name, const std::string& value) {
-  H5Adelete(object, name);
-  const hid_t type = H5Tcopy(H5T_C_S1);
-  H5Tset_size(type, value.size());
-  const hid_t space = H5Screate(H5S_SCALAR);
-  const hid_t a = H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
-  H5Awrite(a, type, value.c_str());
-  H5Aclose(a);
-  H5Sclose(space);
-  H5Tclose(type);
-}
-
 // Turns a checkpoint of the strip case into the format ckpd wrote before format 4: the same
 // datasets, "ckpd checkpoint 3" and the hash of the counters and then each body's name, initially
 // failed bonds and arrays (each array its length, then its bytes) in one sequence.
 void make_format_3(const std::filesystem::path& file) {
-  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
-  REQUIRE(f >= 0);
+  namespace h5 = ckpd::hdf5;
+  h5::Handle f(H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose, "open");
   Fnv h;
-  h.value(read_attribute<double>(f, "dt", H5T_NATIVE_DOUBLE));
-  h.value(read_attribute<double>(f, "time", H5T_NATIVE_DOUBLE));
-  h.value(read_attribute<long long>(f, "step", H5T_NATIVE_LLONG));
+  h.value(h5::read_double_attribute(f, "dt"));
+  h.value(h5::read_double_attribute(f, "time"));
+  h.value(h5::read_int64_attribute(f, "step"));
   for (const char* name : {"external_work", "dissipated", "strain_energy", "initial_total"})
-    h.value(read_attribute<double>(f, name, H5T_NATIVE_DOUBLE));
-  const hid_t body = H5Gopen2(f, "body_0", H5P_DEFAULT);
-  const std::string name = "strip";
-  h.value(name.size());
-  h.bytes(name.data(), name.size());
-  h.value(static_cast<std::size_t>(
-      read_attribute<long long>(body, "initially_failed", H5T_NATIVE_LLONG)));
-  for (const char* set :
-       {"displacement", "velocity", "acceleration", "force_density", "external_force_density"}) {
-    const std::vector<double> v = read_all<double>(body, set, H5T_NATIVE_DOUBLE);
-    h.value(v.size() / 3);
-    h.bytes(v.data(), v.size() * sizeof(double));
+    h.value(h5::read_double_attribute(f, name));
+  {
+    h5::Handle body(H5Gopen2(f, "body_0", H5P_DEFAULT), H5Gclose, "open body_0");
+    const std::string name = "strip";
+    h.value(name.size());
+    h.bytes(name.data(), name.size());
+    h.value(static_cast<std::size_t>(h5::read_int64_attribute(body, "initially_failed")));
+    const auto n = static_cast<std::size_t>(h5::read_int64_attribute(body, "points"));
+    for (const char* set :
+         {"displacement", "velocity", "acceleration", "force_density", "external_force_density"}) {
+      const std::vector<ckpd::Vec3> v = h5::read_vectors(body, set, n);
+      h.value(v.size());
+      h.bytes(v.data(), v.size() * sizeof(ckpd::Vec3));
+    }
+    const std::vector<double> sed = h5::read_doubles(body, "strain_energy_density", n);
+    h.value(sed.size());
+    h.bytes(sed.data(), sed.size() * sizeof(double));
+    h5::Handle set(H5Dopen2(body, "bond_intact", H5P_DEFAULT), H5Dclose, "open bond_intact");
+    h5::Handle space(H5Dget_space(set), H5Sclose, "read a shape");
+    const std::vector<std::uint8_t> bonds = h5::read_bytes(
+        body, "bond_intact", static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+    h.value(bonds.size());
+    h.bytes(bonds.data(), bonds.size());
   }
-  const std::vector<double> sed =
-      read_all<double>(body, "strain_energy_density", H5T_NATIVE_DOUBLE);
-  h.value(sed.size());
-  h.bytes(sed.data(), sed.size() * sizeof(double));
-  const std::vector<std::uint8_t> bonds =
-      read_all<std::uint8_t>(body, "bond_intact", H5T_NATIVE_UINT8);
-  h.value(bonds.size());
-  h.bytes(bonds.data(), bonds.size());
-  H5Gclose(body);
   char hex[17];
   std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h.h));
-  write_string_attribute(f, "format", "ckpd checkpoint 3");
-  write_string_attribute(f, "content_hash", hex);
-  H5Fclose(f);
+  for (const char* name : {"format", "content_hash"}) H5Adelete(f, name);
+  h5::write_string_attribute(f, "format", "ckpd checkpoint 3");
+  h5::write_string_attribute(f, "content_hash", hex);
 }
 
 }  // namespace

@@ -1,24 +1,17 @@
-#!/usr/bin/env python3
-"""Compares the field frames and checkpoint of ckpd runs of one case made at different rank
-counts (tests/mpi/, issue 14): the files the ranks of a distributed run write together must be
-those one process writes.
+"""The field frames and checkpoint of ckpd runs of one case made at different rank counts
+(tests/mpi/, issue 14), compared: the files the ranks of a distributed run write together must be
+those one process writes. Used by compare_runs.py --files.
 
-  compare_files.py REFERENCE_DIR OTHER_DIR [OTHER_DIR ...] [--tolerance 1e-12]
-                   [--derived-tolerance 1e-9]
-
-For every frame file of REFERENCE and its checkpoint.h5 (if it wrote one): OTHER has the same file with the same
+compare(REFERENCE_DIR, OTHER_DIR, tolerance, derived_tolerance): for every frame file of REFERENCE and its checkpoint.h5 (if it wrote one): OTHER has the same file with the same
 datasets of the same shapes and number types; integer datasets (connectivity, point and body ids,
 bond flags, triangles) equal; each floating-point dataset within the tolerance relative to its
 largest magnitude, with NaN at the same places (the fields taken from differences of positions
 over a family, DERIVED, within --derived-tolerance: they amplify the positions' round-off by the
 horizon over the displacement); the same attributes (numbers within the tolerance relative to the
 largest number attribute of the same object: an energy near zero is round-off of the others; the
-content hash is left out, it hashes those round-off bits). fields.xdmf must be the same text.
-Exit status 1 on any mismatch.
+content hash is left out, it hashes those round-off bits). fields.xdmf must be the same text. Returns the mismatches found.
 """
-import argparse
 import os
-import sys
 
 import h5py
 import numpy as np
@@ -103,23 +96,3 @@ def compare(ref, other, tol, derived_tol):
     print(f"  {len(files)} files; largest relative differences: " +
           ", ".join(f"{k} {v:.2g}" for k, v in sorted(worst.items())))
     return problems
-
-
-def main():
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("reference")
-    p.add_argument("others", nargs="+")
-    p.add_argument("--tolerance", type=float, default=1e-12)
-    p.add_argument("--derived-tolerance", type=float, default=1e-9)
-    a = p.parse_args()
-    failed = False
-    for other in a.others:
-        print(f"{other} against {a.reference}:")
-        for problem in compare(a.reference, other, a.tolerance, a.derived_tolerance):
-            print("  MISMATCH: " + problem)
-            failed = True
-    return 1 if failed else 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -2,7 +2,7 @@
 """Compares ckpd runs of one case made at different rank counts (tests/mpi/, issue 14).
 
   compare_runs.py REFERENCE_DIR OTHER_DIR [OTHER_DIR ...] [--tolerance 1e-12]
-                  [--extra-history-step S]
+                  [--extra-history-step S] [--files [--derived-tolerance 1e-9]]
 
 Each OTHER run must match REFERENCE: the same status, steps and history rows; in every history
 row the same broken bonds and each energy column within the tolerance relative to that column's
@@ -13,6 +13,8 @@ displacement and velocity differences (relative to their own largest magnitudes)
 --extra-history-step S: the OTHER runs' history row of step S is left out when REFERENCE has none
 (a run stopped by a signal writes a row at the step it stopped at, kept when it is continued
 from its checkpoint).
+--files: every frame file and the checkpoint compared dataset by dataset too (compare_files.py;
+the fields taken from differences over a family within --derived-tolerance, default 1e-9).
 Exit status 1 on any mismatch.
 """
 import argparse
@@ -23,6 +25,8 @@ import sys
 
 import h5py
 import numpy as np
+
+import compare_files
 
 
 def history(path):
@@ -104,11 +108,16 @@ def main():
     p.add_argument("others", nargs="+")
     p.add_argument("--tolerance", type=float, default=1e-12)
     p.add_argument("--extra-history-step", type=int)
+    p.add_argument("--files", action="store_true")
+    p.add_argument("--derived-tolerance", type=float, default=1e-9)
     a = p.parse_args()
     failed = False
     for other in a.others:
         print(f"{other} against {a.reference}:")
-        for problem in compare(a.reference, other, a.tolerance, a.extra_history_step):
+        problems = compare(a.reference, other, a.tolerance, a.extra_history_step)
+        if a.files:
+            problems += compare_files.compare(a.reference, other, a.tolerance, a.derived_tolerance)
+        for problem in problems:
             print("  MISMATCH: " + problem)
             failed = True
     return 1 if failed else 0

@@ -6,7 +6,7 @@
 # body with a far field (evaluated whole on every rank) must agree at 1 and 2 ranks; SIGTERM sent
 # to one rank must stop every rank after the same step with a checkpoint that continues to the
 # uninterrupted run; the field frames (and checkpoint) of runs at 1, 2 (and 3) ranks must be the
-# same files (compare_files.py). Exit 77 (skipped) for a build without MPI.
+# same files (compare_runs.py --files). Exit 77 (skipped) for a build without MPI.
 # SCHEME (distributed or replicated): the scheme summary.json says the ranks ran on.
 #   mpi_check.sh CKPD SOURCE_DIR WORK_DIR equivalence CASE SCHEME | restart CASE SCHEME | errors |
 #                far_field CASE SCHEME | signal CASE SCHEME | files CASE SCHEME |
@@ -84,9 +84,8 @@ equivalence)
   ghosts_chosen_again "$work/np2"
   ghosts_chosen_again "$work/np3"
   same_contact_count "$work/np1" "$work/np2" "$work/np3"
-  $python "$src/tests/mpi/compare_runs.py" "$work/np1" "$work/np2" "$work/np3"
-  # The frames the ranks wrote (together, with parallel HDF5) are the single process's.
-  $python "$src/tests/mpi/compare_files.py" "$work/np1" "$work/np2" "$work/np3"
+  # --files: the frames the ranks wrote (together, with parallel HDF5) are the single process's.
+  $python "$src/tests/mpi/compare_runs.py" "$work/np1" "$work/np2" "$work/np3" --files
   ;;
 restart)
   OMP_NUM_THREADS=1 "$ckpd" run "$case_file" --out "$work/whole" --quiet
@@ -177,7 +176,7 @@ print(f"frames and checkpoints: {how}")
 shared = sys.argv[2].upper() in ("ON", "1", "TRUE")
 sys.exit(0 if how.startswith("written by every rank") == shared else 1)
 PY
-  $python "$src/tests/mpi/compare_files.py" "$work/np1" "$work/np2"
+  $python "$src/tests/mpi/compare_runs.py" "$work/np1" "$work/np2" --files
   # The checkpoint two ranks wrote continues in one process (its content hash and every row
   # accepted) to the uninterrupted run.
   OMP_NUM_THREADS=1 "$ckpd" run "$case_file" --out "$work/np2" --quiet --set output.field_interval=30 \
