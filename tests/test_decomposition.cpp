@@ -15,6 +15,7 @@
 #include "kernel_comparison.hpp"
 #include "run_helpers.hpp"
 #include "src/engine/decomposition.hpp"
+#include "src/output/hdf5_io.hpp"
 
 using ckpd::Body;
 using ckpd::Decomposition;
@@ -186,6 +187,11 @@ time: {steps: 10}
   CHECK(ok.output.find("distributed memory: each rank holds its points and their halo") !=
         std::string::npos);
   CHECK(ok.output.find("contact on distributed memory: each rank takes as contact ghosts") !=
+        std::string::npos);
+  // How the ranks would write the frames: together where this build's HDF5 is parallel.
+  CHECK(ok.output.find(ckpd::hdf5::shared_files()
+                           ? "field frames and checkpoints: written by every rank into shared files"
+                           : "field frames and checkpoints: gathered to rank 0") !=
         std::string::npos);
   const std::string friction = write_file(
       dir / "friction.yaml",

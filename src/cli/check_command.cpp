@@ -19,6 +19,7 @@
 #include "src/engine/simulation.hpp"
 #include "src/geometry/work_estimate.hpp"
 #include "src/output/kernel_report.hpp"
+#include "src/output/output_share.hpp"
 #include "src/output/run_output.hpp"
 
 namespace ckpd {
@@ -97,6 +98,8 @@ void print_decomposition(const Scene& scene, int ranks) {
       std::cout << "  contact on distributed memory: each rank takes as contact ghosts the points "
                    "other ranks own within l_c + skin of its own, chosen during the run from the "
                    "current positions (48 bytes a ghost per step; summary.json counts them)\n";
+    std::cout << "  field frames and checkpoints: " << output_files_text(true, false)
+              << " (ckpd run --gather-output: " << output_files_text(true, true) << ")\n";
   } else {
     std::size_t sent = 0;
     for (const SceneBody& sb : scene.bodies)

@@ -25,8 +25,8 @@
 #include "src/geometry/work_estimate.hpp"
 #include "src/output/beta_report.hpp"
 #include "src/output/checkpoint.hpp"
-#include "src/output/hdf5_io.hpp"
 #include "src/output/kernel_report.hpp"
+#include "src/output/output_share.hpp"
 #include "src/output/run_driver.hpp"
 
 namespace ckpd {
@@ -133,13 +133,6 @@ void choose_rank_threads() {
 
 // summary.json's account of the ranks: how the points were shared, and what the scheme holds and
 // exchanges (`refusal`: why the scene runs on replicated state; empty: distributed memory).
-// How an MPI run writes its field frames and checkpoints (distributed: on distributed memory).
-std::string output_files_text(bool distributed, bool gathered) {
-  return distributed && hdf5::shared_files() && !gathered
-             ? "written by every rank into shared files, each its own points (parallel HDF5)"
-             : "gathered to rank 0, which writes them";
-}
-
 nlohmann::ordered_json decomposition_json(const Scene& scene, const Decomposition& d,
                                           const std::string& refusal) {
   nlohmann::ordered_json per_rank = nlohmann::ordered_json::array();

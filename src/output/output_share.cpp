@@ -33,6 +33,12 @@ BodyShare empty_share(const Body& whole) {
 
 }  // namespace
 
+std::string output_files_text(bool distributed, bool gathered) {
+  return distributed && hdf5::shared_files() && !gathered
+             ? "written by every rank into shared files, each its own points (parallel HDF5)"
+             : "gathered to rank 0, which writes them";
+}
+
 BodyShare whole_body_share(const Body& body) {
   BodyShare share = empty_share(body);
   share.body = &body;

@@ -7,6 +7,7 @@
 // rank 0. Without parallel HDF5 a distributed run gathers to rank 0, which writes alone.
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "src/engine/simulation.hpp"
@@ -18,6 +19,10 @@ namespace ckpd {
 // (hdf5::create_shared_file): a distributed run of several ranks on a build with parallel HDF5,
 // unless told to gather (OutputSettings::gather_files).
 bool shared_output(const Simulation& sim);
+
+// How the ranks of an MPI run write the frames and checkpoints, in words (`distributed`: on
+// distributed memory; `gathered`: told to gather, `ckpd run --gather-output`).
+std::string output_files_text(bool distributed, bool gathered);
 
 struct BodyShare {
   const Body* body = nullptr;  // the body the rows are taken from (this rank's part, or whole)
