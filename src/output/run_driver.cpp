@@ -10,6 +10,7 @@
 
 #include "src/engine/ranks.hpp"
 #include "src/output/checkpoint.hpp"
+#include "src/output/history_quantities.hpp"
 #include "src/output/output_share.hpp"
 
 namespace ckpd {
@@ -22,7 +23,7 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
       progress_(options_.progress, sim.planned_steps()),
       writes_(!options_.out.empty() && ranks::root()),
       shared_(!options_.out.empty() && shared_output(sim)),
-      row_gathers_(!sim.scene().output.history.empty()) {
+      row_gathers_(history_needs_whole_scene(sim.scene().output.history)) {
   const OutputSettings& o = sim_.scene().output;
   interval_ = o.history_interval > 0 ? o.history_interval : std::max<long long>(1, total_ / 200);
   std::string failure;
@@ -51,6 +52,8 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
   // wait for it (the caller prints rank 0's message once).
   if (ranks::any(!failure.empty()))
     throw std::runtime_error(failure.empty() ? "rank 0 could not prepare the output" : failure);
+  // Every rank knows whether there is a history (its rows' quantities are sums over the ranks).
+  has_history_ = ranks::from_root(history_.has_value());
   // Every rank counts the frames, so that all know when one is due; with shared files the other
   // ranks write their points into them.
   const long long kept =
@@ -59,7 +62,7 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
     fields_.emplace(FieldWriter::follower(options_.out, o.fields, static_cast<std::size_t>(kept)));
   // A distributed run: rank 0's whole scene holds every rank's state for the output.
   gather();
-  if (resume_ < 0 && history_) history_->write_row(sim_);
+  if (resume_ < 0 && has_history_) write_row();
   if (resume_ < 0) row_step_ = sim_.step();
   if (fields_ && (resume_ < 0 || fields_->frames() == 0)) write_frame();
   progress_.energy_evaluated(sim_);
@@ -118,13 +121,21 @@ void RunDriver::step(bool with_energy) {
   // ranks every step), frames and checkpoints in shared files never.
   if ((row && row_gathers_) || ((frame || checkpoint) && !shared_)) gather();
   if (row) {
-    if (history_) history_->write_row(sim_);
+    if (has_history_) write_row();
     row_step_ = sim_.step();
   }
   report_inversion();
   if (frame) write_frame();
   progress_.update(sim_);
   if (checkpoint) write_checkpoint();
+}
+
+void RunDriver::write_row() {
+  // The chosen quantities: a collective on distributed memory; on replicated state rank 0's own.
+  const auto& chosen = sim_.scene().output.history;
+  std::vector<double> values;
+  if (!chosen.empty() && (sim_.distribution() || history_)) values = history_values(sim_, chosen);
+  if (history_) history_->write_row(sim_, values);
 }
 
 void RunDriver::write_frame() {
@@ -175,7 +186,7 @@ void RunDriver::stop(const std::string& status, const std::string& message) {
   // them without counting, and a refresh gives new strain energy densities.
   gathered_step_ = -1;
   gather();
-  if (refresh && history_) history_->write_row(sim_);
+  if (refresh && has_history_) write_row();
   row_step_ = sim_.step();
   if (writes_) write_json(options_.out + "/summary.json", summary(status, message));
   if (status == "completed") {

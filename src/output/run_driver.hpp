@@ -70,6 +70,7 @@ class RunDriver {
   void gather();
   void report_inversion();
   void write_frame();
+  void write_row();  // the history row of this step (every rank takes part)
 
   Simulation& sim_;
   RunDriverOptions options_;
@@ -86,7 +87,8 @@ class RunDriver {
   bool inversion_reported_ = false;
   bool writes_;       // this process writes the files (rank 0 of a run with an output folder)
   bool shared_;       // frames and checkpoints written by all ranks together (output_share.hpp)
-  bool row_gathers_;  // a history row reads the whole scene (the case's own history quantities)
+  bool row_gathers_;  // a history row reads the whole scene (a chosen quantity labels fragments)
+  bool has_history_ = false;  // rank 0 writes a history (known on every rank)
 };
 
 }  // namespace ckpd

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "src/engine/simulation.hpp"
 
@@ -18,8 +19,9 @@ class HistoryWriter {
   explicit HistoryWriter(const std::string& path, long long resume_after_step = -1,
                          std::vector<HistoryQuantity> chosen = {}, bool far_field = false);
   // One row per step: a second call at the step of the last row (kept from before a restart
-  // or written by this process) writes nothing.
-  void write_row(const Simulation& sim);
+  // or written by this process) writes nothing. `chosen`: the chosen quantities' values
+  // (history_values), computed by every rank of a distributed run.
+  void write_row(const Simulation& sim, const std::vector<double>& chosen);
 
  private:
   std::ofstream out_;
