@@ -28,5 +28,6 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 build_type="${CKPD_BUILD_TYPE:-Release}"
-cmake -S . -B build -DCMAKE_BUILD_TYPE="$build_type" >/dev/null
+# CKPD_BENCH=OFF (scripts/test.sh): without the benchmarks in bench/, which no test uses.
+cmake -S . -B build -DCMAKE_BUILD_TYPE="$build_type" -DCKPD_BENCH="${CKPD_BENCH:-ON}" >/dev/null
 cmake --build build -j "$(nproc)"
