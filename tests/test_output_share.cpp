@@ -52,5 +52,11 @@ time: {steps: 1}
   CHECK(bond_rows(share) == body.bond_intact);
   std::vector<double> values(2 * body.size());
   for (std::size_t k = 0; k < values.size(); ++k) values[k] = static_cast<double>(k);
-  CHECK(rows_of(share, values, 2) == values);
+  std::vector<double> scratch;
+  CHECK(&rows_of(share, values, 2, scratch) == &values);  // every point: no copy
+  CHECK(share.whole_index(5) == 5);
+  // A share of points 1 and 3 (a rank's owned points) takes their rows, in order.
+  BodyShare part = share;
+  part.local = {1, 3};
+  CHECK(rows_of(part, values, 2, scratch) == std::vector<double>{2, 3, 6, 7});
 }

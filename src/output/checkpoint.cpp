@@ -90,7 +90,7 @@ std::uint64_t point_rows_hash(const BodyShare& share, std::size_t b) {
     const std::size_t l = share.local[k];
     ContentHash h;
     h.value(b);
-    h.value(share.whole[k]);
+    h.value(share.whole_index(k));
     h.value(body.displacement[l]);
     h.value(body.velocity[l]);
     h.value(body.acceleration[l]);
@@ -232,7 +232,7 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
       hdf5::write_double_attribute(file, "adaptive_smallest_step", c.smallest_step);
       hdf5::write_int64_attribute(file, "adaptive_reduced_steps", c.reduced_steps);
     }
-    const auto& bodies = shared ? sim.scene().bodies : sim.whole_scene().bodies;
+    const auto& bodies = output_scene(sim).bodies;
     hdf5::write_int64_attribute(file, "bodies", static_cast<long long>(bodies.size()));
     for (std::size_t b = 0; b < bodies.size(); ++b) {
       const BodyShare share = body_share(sim, b);
@@ -241,19 +241,22 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
                               H5P_DEFAULT),
                    H5Gclose, "create a body group");
       hdf5::write_string_attribute(group, "name", body.name);
-      hdf5::write_int64_attribute(group, "points", static_cast<long long>(share.whole_points));
+      hdf5::write_int64_attribute(group, "points", static_cast<long long>(share.points.rows));
       hdf5::write_int64_attribute(group, "initially_failed",
                                   static_cast<long long>(c.initially_failed[b]));
+      std::vector<Vec3> cut;
       const auto vectors = [&](const char* name, const std::vector<Vec3>& v) {
-        hdf5::write_vectors(group, name, rows_of(share, v, 1), share.points);
+        hdf5::write_vectors(group, name, rows_of(share, v, 1, cut), share.points);
       };
       vectors("displacement", body.displacement);
       vectors("velocity", body.velocity);
       vectors("acceleration", body.acceleration);
       vectors("force_density", body.force_density);
       vectors("external_force_density", body.external_force_density);
+      std::vector<double> cut_densities;
       hdf5::write_doubles(group, "strain_energy_density",
-                          rows_of(share, body.strain_energy_density, 1).data(), share.points, 1);
+                          rows_of(share, body.strain_energy_density, 1, cut_densities).data(),
+                          share.points, 1);
       hdf5::write_bytes(group, "bond_intact", bond_rows(share), share.bonds);
       hash.text(body.name);
       hash.value(c.initially_failed[b]);
@@ -268,10 +271,7 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
                                             r.orientation.x(),      r.orientation.y(),
                                             r.orientation.z(),      r.couple.x(),
                                             r.couple.y(),           r.couple.z()};
-        hdf5::write_doubles(group, "rigid_state", packed,
-                            shared && !ranks::root() ? hdf5::RowShare::none(kRigidState)
-                                                     : hdf5::RowShare::all(kRigidState),
-                            1);
+        hdf5::write_doubles(group, "rigid_state", packed, alike_rows(sim, kRigidState), 1);
         hash.bytes(packed, sizeof packed);
       }
     }

@@ -58,16 +58,14 @@ bool wall_field(const std::string& name) {
 }
 
 // A mesh wall's surface at the wall's current pose: x = centre + R (X - c0). Every rank of a
-// shared file makes the same calls; `writes` (rank 0 there) writes the rows.
-void write_wall_group(hid_t group, const SceneBody& sb, std::size_t b,
-                      const std::vector<std::string>& fields, bool writes) {
+// shared file makes the same calls; rank 0 writes the rows (alike_rows).
+void write_wall_group(hid_t group, const Simulation& sim, const SceneBody& sb, std::size_t b,
+                      const std::vector<std::string>& fields) {
   const TriangleMesh& surface = *sb.wall_surface;
   const MeshWall::Pose pose = sb.wall->pose(point_set(sb));
   const Vec3& c0 = sb.wall->carriers().centre;
   const std::size_t n = surface.vertex.size();
-  const auto share = [writes](std::size_t rows) {
-    return writes ? hdf5::RowShare::all(rows) : hdf5::RowShare::none(rows);
-  };
+  const auto share = [&sim](std::size_t rows) { return alike_rows(sim, rows); };
   std::vector<Vec3> x(n);
   for (std::size_t v = 0; v < n; ++v) x[v] = pose.centre + pose.rotation * (surface.vertex[v] - c0);
   std::vector<std::int32_t> cells;
@@ -101,15 +99,18 @@ void write_point_group(hid_t group, const Simulation& sim, std::size_t b,
                        const std::vector<std::string>& fields, std::vector<double>& buffer) {
   const BodyShare share = body_share(sim, b);
   // The Polyvertex connectivity: point k is cell k.
-  const std::vector<std::int32_t> ids(share.whole.begin(), share.whole.end());
+  std::vector<std::int32_t> ids(share.local.size());
+  for (std::size_t k = 0; k < ids.size(); ++k)
+    ids[k] = static_cast<std::int32_t>(share.whole_index(k));
   hdf5::write_int32(group, "connectivity", ids, share.points, 1);
   const FieldSource source{*share.body, b, share.whole_of_local,
                            share.whole_of_local ? &sim.whole_scene().bodies[b].body : nullptr};
+  std::vector<double> scratch;
   for (const std::string& f : fields) {
     const FieldSpec& spec = *find_field(f);
     spec.extract(source, buffer);
     const auto columns = static_cast<std::size_t>(spec.components);
-    const std::vector<double> rows = rows_of(share, buffer, columns);
+    const std::vector<double>& rows = rows_of(share, buffer, columns, scratch);
     if (spec.number == FieldNumber::int32) {
       const std::vector<std::int32_t> values(rows.begin(), rows.end());
       hdf5::write_int32(group, f, values, share.points, columns);
@@ -209,8 +210,7 @@ void FieldWriter::write_frame(const Simulation& sim) {
                 H5Fclose, "create " + temp_path);
     hdf5::write_double_attribute(file, "time", sim.time());
     hdf5::write_int64_attribute(file, "step", sim.step());
-    // Rigid bodies and walls as this process moved them (in a shared file: alike on every rank).
-    const auto& bodies = shared ? sim.scene().bodies : sim.whole_scene().bodies;
+    const auto& bodies = output_scene(sim).bodies;
     std::vector<double> buffer;
     for (std::size_t b = 0; b < bodies.size(); ++b) {
       const SceneBody& sb = bodies[b];
@@ -220,7 +220,7 @@ void FieldWriter::write_frame(const Simulation& sim) {
       hdf5::write_string_attribute(group, "name", sb.body.name);
       hdf5::write_int64_attribute(group, "dimension", sb.body.dimension);
       if (sb.wall && sb.wall_surface) {
-        write_wall_group(group, sb, b, fields_, root);
+        write_wall_group(group, sim, sb, b, fields_);
         frame.points.push_back(sb.wall_surface->vertex.size());
         frame.triangles.push_back(sb.wall_surface->triangle.size());
       } else {

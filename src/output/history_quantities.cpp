@@ -23,6 +23,14 @@ void add3(double* sums, const Vec3& v) {
   for (int k = 0; k < 3; ++k) sums[k] += v[k];
 }
 
+// sums[0..2] += the booked points' momentum; with `mass`, sums[3] += their mass.
+void add_momentum(const HistorySource& src, std::size_t body, double* sums, bool mass) {
+  for_booked(src, body, [&](const Body& b, std::size_t i) {
+    add3(sums, b.density * b.volume[i] * b.velocity[i]);
+    if (mass) sums[3] += b.density * b.volume[i];
+  });
+}
+
 using Add = std::function<void(const HistorySource&, const HistoryQuantity&, double*)>;
 using Finish = std::function<void(const double*, double*)>;
 
@@ -44,9 +52,7 @@ std::vector<HistoryQuantityKind> make_table() {
   std::vector<HistoryQuantityKind> t;
   t.push_back(vector_kind("momentum", 1, false, 3,
                           [](const HistorySource& src, const HistoryQuantity& q, double* sums) {
-                            for_booked(src, q.bodies[0], [&](const Body& b, std::size_t i) {
-                              add3(sums, b.density * b.volume[i] * b.velocity[i]);
-                            });
+                            add_momentum(src, q.bodies[0], sums, false);
                           }));
   // One density per body: volume weights are mass weights.
   t.push_back(vector_kind(
@@ -61,10 +67,7 @@ std::vector<HistoryQuantityKind> make_table() {
   t.push_back(vector_kind(
       "mean_velocity", 1, false, 4,
       [](const HistorySource& src, const HistoryQuantity& q, double* sums) {
-        for_booked(src, q.bodies[0], [&](const Body& b, std::size_t i) {
-          add3(sums, b.density * b.volume[i] * b.velocity[i]);
-          sums[3] += b.density * b.volume[i];
-        });
+        add_momentum(src, q.bodies[0], sums, true);
       },
       divide_by_last));
   t.push_back(scalar_kind(

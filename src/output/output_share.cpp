@@ -12,12 +12,20 @@ bool shared_output(const Simulation& sim) {
          !sim.scene().output.gather_files;
 }
 
+const Scene& output_scene(const Simulation& sim) {
+  return shared_output(sim) ? sim.scene() : sim.whole_scene();
+}
+
+hdf5::RowShare alike_rows(const Simulation& sim, std::size_t rows) {
+  return shared_output(sim) && !ranks::root() ? hdf5::RowShare::none(rows)
+                                              : hdf5::RowShare::all(rows);
+}
+
 namespace {
 
 // Appends point `local` of share.body, point `whole` of the whole body `of`, to the share.
 void add_point(BodyShare& share, const Body& of, std::size_t local, std::size_t whole) {
-  share.local.push_back(local);
-  share.whole.push_back(whole);
+  share.local.push_back(static_cast<std::uint32_t>(local));
   share.points.add(whole, 1);
   if (of.family.offset.size() == of.size() + 1 && !of.bond_intact.empty())
     share.bonds.add(of.family.offset[whole], of.family.offset[whole + 1] - of.family.offset[whole]);
@@ -25,7 +33,6 @@ void add_point(BodyShare& share, const Body& of, std::size_t local, std::size_t 
 
 BodyShare empty_share(const Body& whole) {
   BodyShare share;
-  share.whole_points = whole.size();
   share.points = hdf5::RowShare::none(whole.size());
   share.bonds = hdf5::RowShare::none(whole.bond_intact.size());
   return share;

@@ -24,15 +24,27 @@ bool shared_output(const Simulation& sim);
 // distributed memory; `gathered`: told to gather, `ckpd run --gather-output`).
 std::string output_files_text(bool distributed, bool gathered);
 
+// The scene the rows are taken from: this rank's part with shared_output (its rigid bodies and
+// walls moved alike on every rank), otherwise sim.whole_scene().
+const Scene& output_scene(const Simulation& sim);
+
+// The rows of something every process holds alike (a rigid state, a wall's surface): all of them
+// for one process, and in a shared file rank 0's.
+hdf5::RowShare alike_rows(const Simulation& sim, std::size_t rows);
+
 struct BodyShare {
   const Body* body = nullptr;  // the body the rows are taken from (this rank's part, or whole)
-  std::size_t whole_points = 0;
-  hdf5::RowShare points;           // rows of the per-point arrays
-  hdf5::RowShare bonds;            // rows of bond_intact (the points' families, in order)
-  std::vector<std::size_t> local;  // the points of `body` whose rows those are, in row order
-  std::vector<std::size_t> whole;  // the same points' indices in the whole body
+  hdf5::RowShare points;       // rows of the per-point arrays (points.rows: the whole body's)
+  hdf5::RowShare bonds;        // rows of bond_intact (the points' families, in order)
+  std::vector<std::uint32_t> local;  // the points of `body` whose rows those are, in row order
   // Each point of `body`'s index in the whole body (null: `body` is the whole body).
   const std::vector<std::uint32_t>* whole_of_local = nullptr;
+  // The whole-body index of the share's k-th point.
+  std::size_t whole_index(std::size_t k) const {
+    return whole_of_local ? (*whole_of_local)[local[k]] : local[k];
+  }
+  // Whether the rows are every point of `body`, in order (one process, or rank 0's rigid body).
+  bool every_point() const { return local.size() == body->size(); }
 };
 
 // Every row of `body`, from `body`.
@@ -42,15 +54,18 @@ BodyShare whole_body_share(const Body& body);
 // all points of sim.whole_scene()'s body.
 BodyShare body_share(const Simulation& sim, std::size_t b);
 
-// values (`columns` per point of share.body) cut to the rows this process writes.
+// values (`columns` per point of share.body) cut to the rows this process writes: `values`
+// itself when they are every point's, else the cut, in `scratch`.
 template <class T>
-std::vector<T> rows_of(const BodyShare& share, const std::vector<T>& values, std::size_t columns) {
-  std::vector<T> out;
-  out.reserve(share.local.size() * columns);
+const std::vector<T>& rows_of(const BodyShare& share, const std::vector<T>& values,
+                              std::size_t columns, std::vector<T>& scratch) {
+  if (share.every_point()) return values;
+  scratch.clear();
+  scratch.reserve(share.local.size() * columns);
   for (std::size_t l : share.local)
-    out.insert(out.end(), values.begin() + static_cast<std::ptrdiff_t>(l * columns),
-               values.begin() + static_cast<std::ptrdiff_t>((l + 1) * columns));
-  return out;
+    scratch.insert(scratch.end(), values.begin() + static_cast<std::ptrdiff_t>(l * columns),
+                   values.begin() + static_cast<std::ptrdiff_t>((l + 1) * columns));
+  return scratch;
 }
 
 // The bond flags of the share's points, family after family (an owned point's family is whole in

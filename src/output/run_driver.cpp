@@ -60,8 +60,9 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
       ranks::from_root(fields_ ? static_cast<long long>(fields_->frames()) : -1LL);
   if (!ranks::root() && kept >= 0)
     fields_.emplace(FieldWriter::follower(options_.out, o.fields, static_cast<std::size_t>(kept)));
-  // A distributed run: rank 0's whole scene holds every rank's state for the output.
-  gather();
+  // A distributed run: rank 0's whole scene holds every rank's state for the first row (with
+  // fragments) and frame (when rank 0 writes it alone).
+  if ((has_history_ && row_gathers_) || (fields_ && !shared_)) gather();
   if (resume_ < 0 && has_history_) write_row();
   if (resume_ < 0) row_step_ = sim_.step();
   if (fields_ && (resume_ < 0 || fields_->frames() == 0)) write_frame();
