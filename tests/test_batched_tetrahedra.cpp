@@ -1,13 +1,14 @@
-// The symmetric kernel's batched tetrahedra (bodies/symmetric/tetrahedron_batch.hpp, built when
+// The symmetric kernel's grouped tetrahedra (bodies/symmetric/tetrahedron_group.hpp, built when
 // the compiler targets AVX2; other builds run the same tests on the scalar loop) against the
 // reference kernel: forces and energies to 1e-12 of their largest value on perturbed 3D bodies
 // with randomly failed bonds, lattice stencil and general path, lattices and jittered clouds,
 // centre_bonds and all_edges, own_family and energy_consistent, with and without the inversion
-// penalty, at 1 and 2 OpenMP threads; the pairs' tetrahedron counts leave every remainder
-// modulo the batch width, and upper families of more than 64 slots put batches in a second
-// row word; results are the same bits when the kernel runs again.
+// penalty, at 1 and 2 OpenMP threads; the groups of pairs (tetrahedron_group.hpp) take every
+// fill and every number of live lanes, and upper families of more than 64 slots put candidates
+// in a second row word; results are the same bits when the kernel runs again.
 #include <omp.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
@@ -66,11 +67,13 @@ Body make(const Scene& s, const Variant& v, std::mt19937& rng) {
 TEST_CASE("batched tetrahedra equal the reference kernel in every force form and damage rule",
           "[batched_tetrahedra]") {
   ThreadCountGuard guard;
-  INFO("tetrahedron batch width of this build: " << ckpd::symmetric::kTetrahedronBatch);
-#if defined(__AVX2__)
-  CHECK((ckpd::symmetric::kTetrahedronBatch == 4 || ckpd::symmetric::kTetrahedronBatch == 8));
+  INFO("tetrahedron group width of this build: " << ckpd::symmetric::kTetrahedronGroup);
+#if defined(__AVX512F__)
+  CHECK(ckpd::symmetric::kTetrahedronGroup == 8);
+#elif defined(__AVX2__)
+  CHECK(ckpd::symmetric::kTetrahedronGroup == 4);
 #else
-  CHECK(ckpd::symmetric::kTetrahedronBatch == 0);
+  CHECK(ckpd::symmetric::kTetrahedronGroup == 0);
 #endif
   const std::vector<Scene> scenes = {
       {"3D lattice nu=0.3 (C3>0)", 3, 0.3, 0.0, 7, 6, 6},
@@ -149,11 +152,15 @@ TEST_CASE("batched tetrahedra under Seth-Hill strain measures equal the referenc
       }
 }
 
-TEST_CASE("the pairs' tetrahedron counts leave every remainder modulo the batch width",
+TEST_CASE("the groups of pairs leave every remainder and every lane count",
           "[batched_tetrahedra]") {
-  // For each pair (a, b) of an upper family (a < b bonded), the candidates c > b bonded to both:
-  // the batch sees them in blocks of 4 slots. On a test body above both the counts and the
-  // blocks' fill take every value, so remainders and partly filled blocks are exercised.
+  // For each slot a of an upper family, the pairs (a, b) with tetrahedra (candidates c > b
+  // bonded to a and b) go to the kernel's groups, kTetrahedronGroup pairs at a time, one pair
+  // per lane, and the group runs over the slots c of any lane. On the test body of the first
+  // test the number of such pairs per slot leaves every remainder modulo the group width (partly
+  // filled groups), and a group's step c has every number of live lanes, from one to the
+  // width.
+  const int width = ckpd::symmetric::kTetrahedronGroup > 0 ? ckpd::symmetric::kTetrahedronGroup : 4;
   std::mt19937 rng(4711);
   const Scene s{"3D lattice nu=0.3", 3, 0.3, 0.0, 7, 6, 6};
   const Body body = ckpd::make_body(block(3, s.nx, s.ny, s.nz, constants_for(s), 0.0, rng));
@@ -163,34 +170,39 @@ TEST_CASE("the pairs' tetrahedron counts leave every remainder modulo the batch 
     const auto end = f.neighbour.begin() + static_cast<std::ptrdiff_t>(f.offset[p + 1]);
     return std::binary_search(begin, end, q);
   };
-  std::set<std::size_t> remainders, fills;
-  for (std::size_t i = 0; i < body.size(); i += 17) {
+  std::set<std::size_t> remainders, live;
+  for (std::size_t i = 0; i < body.size(); i += 7) {
     std::vector<std::uint32_t> up;
     for (std::size_t k = f.offset[i]; k < f.offset[i + 1]; ++k)
       if (f.neighbour[k] > i) up.push_back(f.neighbour[k]);
-    for (std::size_t a = 0; a < up.size(); ++a)
+    for (std::size_t a = 0; a < up.size(); ++a) {
+      // Per pair with tetrahedra, its candidates c; then the groups as the kernel forms them.
+      std::vector<std::set<std::size_t>> pairs;
       for (std::size_t b = a + 1; b < up.size(); ++b) {
         if (!bonded(up[a], up[b])) continue;
-        // The candidates in slot order, then the blocks as the kernel forms them: 4 slots from
-        // the lowest candidate not yet covered.
-        std::vector<std::size_t> cands;
+        std::set<std::size_t> cands;
         for (std::size_t c = b + 1; c < up.size(); ++c)
-          if (bonded(up[a], up[c]) && bonded(up[b], up[c])) cands.push_back(c);
-        const std::size_t count = cands.size();
-        for (std::size_t n = 0; n < count;) {
-          std::size_t fill = 0;
-          const std::size_t c0 = cands[n];
-          while (n < count && cands[n] < c0 + 4) {
-            ++fill;
-            ++n;
-          }
-          fills.insert(fill);
-        }
-        remainders.insert(count % 4);
+          if (bonded(up[a], up[c]) && bonded(up[b], up[c])) cands.insert(c);
+        if (!cands.empty()) pairs.push_back(cands);
       }
+      remainders.insert(pairs.size() % static_cast<std::size_t>(width));
+      for (std::size_t g = 0; g < pairs.size(); g += static_cast<std::size_t>(width)) {
+        const std::size_t end = std::min(pairs.size(), g + static_cast<std::size_t>(width));
+        std::set<std::size_t> steps;
+        for (std::size_t p = g; p < end; ++p) steps.insert(pairs[p].begin(), pairs[p].end());
+        for (const std::size_t c : steps) {
+          std::size_t n = 0;
+          for (std::size_t p = g; p < end; ++p) n += pairs[p].count(c);
+          live.insert(n);
+        }
+      }
+    }
   }
-  CHECK(remainders == std::set<std::size_t>{0, 1, 2, 3});
-  CHECK(fills == std::set<std::size_t>{1, 2, 3, 4});
+  std::set<std::size_t> all_remainders, all_live;
+  for (int r = 0; r < width; ++r) all_remainders.insert(static_cast<std::size_t>(r));
+  for (int n = 1; n <= width; ++n) all_live.insert(static_cast<std::size_t>(n));
+  CHECK(remainders == all_remainders);
+  CHECK(live == all_live);
 }
 
 TEST_CASE("batched tetrahedra give the same bits when the kernel runs again",

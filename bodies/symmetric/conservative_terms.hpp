@@ -8,7 +8,7 @@
 // per unit force weight. Energies are the own-family shares, as in the own-family pieces (their
 // volume-weighted sum is the energy E whose gradient the forces are).
 #include "bodies/symmetric/pair.hpp"
-#include "bodies/symmetric/tetrahedron_batch.hpp"
+#include "bodies/symmetric/tetrahedron_group.hpp"
 
 namespace ckpd::symmetric {
 
@@ -215,27 +215,63 @@ inline void triangle_term_conservative(const Context<Model>& ctx, SymmetricKerne
   }
 }
 
+// An ill-conditioned tetrahedron {i, a, b, c} (or one near the degeneracy threshold): each
+// vertex's view, weighed as the set's weight K (the mean over its active vertices).
+template <class Model, bool kEnergy>
+inline void separate_tetrahedron_conservative(const Context<Model>& ctx, SymmetricKernelThread& t,
+                                              Centre& centre, std::size_t a, std::size_t b,
+                                              std::size_t c, unsigned mask) {
+  const Body& body = *ctx.body;
+  const std::uint32_t* up = t.up.data();
+  const std::uint32_t ii = centre.index, vj = up[a], vk = up[b], vl = up[c];
+  const double Vi = body.volume[ii];
+  const double k3i = ctx.model.tetrahedron_force_weight(body.dv3[ii]);
+  bool s[4] = {false, false, false, false};
+  const SetTerm<4> tv[4] = {
+      vertex_tetrahedron(ctx, ii, vj, vk, vl, s[0]), vertex_tetrahedron(ctx, vj, ii, vk, vl, s[1]),
+      vertex_tetrahedron(ctx, vk, ii, vj, vl, s[2]), vertex_tetrahedron(ctx, vl, ii, vj, vk, s[3])};
+  const double k[4] = {k3i, t.k3[a], t.k3[b], t.k3[c]};
+  const double Vs[4] = {Vi, t.vol[a], t.vol[b], t.vol[c]};
+  const std::size_t slot[4] = {0, a, b, c};
+  // Perspective v lists v first, then the other three in increasing order.
+  constexpr int order[4][4] = {{0, 1, 2, 3}, {1, 0, 2, 3}, {2, 0, 1, 3}, {3, 0, 1, 2}};
+  Vec3 f[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  bool seen = false, inverted = false;
+  for (int v = 0; v < 4; ++v) {
+    s[v] = s[v] && ((mask >> v) & 1);
+    if (!s[v]) continue;
+    seen = true;
+    inverted |= tv[v].inverted;
+    const double share = Vs[v] * k[v] / 4;
+    for (int n = 0; n < 4; ++n) f[order[v][n]] += share * tv[v].force[static_cast<std::size_t>(n)];
+  }
+  if (!seen) return;
+  for (int d = 0; d < 4; ++d)
+    centre.add<kEnergy>(t, slot[d], d == 0, f[d] / Vs[d], s[d] ? k[d] * tv[d].energy / 4 : 0.0);
+  if constexpr (kEnergy) centre.count.inverted_tetrahedra += inverted;
+  ++centre.count.tetrahedra;
+  ++centre.count.tetrahedra_per_vertex;
+}
+
 template <class Model, bool kEnergy, bool kPenalty, bool kStencil>
 CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop_conservative(const Context<Model>& ctx,
                                                                        SymmetricKernelThread& t,
                                                                        Centre& centre,
-                                                                       const Pair& pr) {
+                                                                       const Pair& pr,
+                                                                       batch::PairGroup& group) {
   const Model& model = ctx.model;
   const Body& body = *ctx.body;
   const LatticeStencil* st = ctx.stencil;
   const std::size_t W = t.words, a = pr.a, b = pr.b;
   const std::uint64_t* own = t.own.data();
   const std::uint64_t* present = t.present.data();
-  const std::uint32_t* __restrict up = t.up.data();
   const double* __restrict Rx = t.Rx.data();
   const double* __restrict Ry = t.Ry.data();
   const double* __restrict Rz = t.Rz.data();
   const double* __restrict rx = t.rx.data();
   const double* __restrict ry = t.ry.data();
   const double* __restrict rz = t.rz.data();
-  const double* __restrict k3 = t.k3.data();
   const double* __restrict e3 = t.e3.data();
-  const double* __restrict vol = t.vol.data();
   const double* __restrict inv_vol = t.inv_vol.data();
   const double* __restrict x3 = t.x3.data();
   double* __restrict fx = t.fx.data();
@@ -290,45 +326,12 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop_conservative(const Con
     any = true;
     ++n_tetrahedra;
   };
-  // An ill-conditioned tetrahedron (or one near the degeneracy threshold): each vertex's view.
   auto separate = [&](std::size_t c, unsigned mask) {
-    const std::uint32_t vj = up[a], vk = up[b], vl = up[c];
-    bool s[4] = {false, false, false, false};
-    const SetTerm<4> tv[4] = {vertex_tetrahedron(ctx, ii, vj, vk, vl, s[0]),
-                              vertex_tetrahedron(ctx, vj, ii, vk, vl, s[1]),
-                              vertex_tetrahedron(ctx, vk, ii, vj, vl, s[2]),
-                              vertex_tetrahedron(ctx, vl, ii, vj, vk, s[3])};
-    const double k[4] = {k3i, k3[a], k3[b], k3[c]};
-    const double Vs[4] = {Vi, vol[a], vol[b], vol[c]};
-    const std::size_t slot[4] = {0, a, b, c};
-    // Perspective v lists v first, then the other three in increasing order.
-    constexpr int order[4][4] = {{0, 1, 2, 3}, {1, 0, 2, 3}, {2, 0, 1, 3}, {3, 0, 1, 2}};
-    Vec3 f[4] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-    bool seen = false, inverted = false;
-    for (int v = 0; v < 4; ++v) {
-      s[v] = s[v] && ((mask >> v) & 1);
-      if (!s[v]) continue;
-      seen = true;
-      inverted |= tv[v].inverted;
-      const double share = Vs[v] * k[v] / 4;
-      for (int n = 0; n < 4; ++n)
-        f[order[v][n]] += share * tv[v].force[static_cast<std::size_t>(n)];
-    }
-    if (!seen) return;
-    for (int d = 0; d < 4; ++d)
-      centre.add<kEnergy>(t, slot[d], d == 0, f[d] / Vs[d], s[d] ? k[d] * tv[d].energy / 4 : 0.0);
-    if constexpr (kEnergy) n_inverted += inverted;
-    ++n_tetrahedra;
-    ++centre.count.tetrahedra_per_vertex;
+    separate_tetrahedron_conservative<Model, kEnergy>(ctx, t, centre, a, b, c, mask);
   };
   const std::uint64_t* triple_row = kStencil ? &st->triple_row[pr.number * W] : nullptr;
   std::size_t triple_rank = kStencil ? st->triple_base[pr.number] : 0;
-#if defined(CKPD_BATCHED_TETRAHEDRA)
-  const batch::Geometry geometry(Rx, Ry, Rz, rx, ry, rz, pq, RPQ);
-  double E = 0;  // energy of the sets active for all four vertices (batched)
-  const batch::Rows rows{fx, fy, fz, slot_w, e3};
-  const batch::Tally tally{S, F, E, n_tetrahedra, n_inverted, any};
-#endif
+
   for (std::size_t wc = b >> 6; wc < W; ++wc) {
     std::uint64_t cand;
     std::size_t word_triple = 0;
@@ -350,19 +353,12 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop_conservative(const Con
     std::uint64_t todo = cand & (mi | mj | mk | ml);
 #if defined(CKPD_BATCHED_TETRAHEDRA)
     if constexpr (batched_tetrahedra<Model, kStencil>()) {
-      // The sets active for all four vertices in blocks of 4 slots (tetrahedron_batch.hpp), the
-      // others one by one below.
-      std::uint64_t full = todo & mi & mj & mk & ml;
+      // The sets active for all four vertices: evaluated with the group's other pairs
+      // (tetrahedron_group.hpp), the others one by one below.
+      const std::uint64_t full = todo & mi & mj & mk & ml;
       todo &= ~full;
-      batch::book_full_blocks<Model, kEnergy, kPenalty, kStencil>(
-          model, geometry, st, full, wc, kStencil ? triple_row[wc] : 0, word_triple, ctx.well3,
-          ctx.lo3, rows, tally,
-          [&](batch::Block& k, std::size_t c0) {
-            // f' = f K, K = (xi + xa + xb + x3[c]) / 4 (shared() with mask 15).
-            k.f = k.f * ((batch::splat(xab) + batch::load(x3 + c0)) / batch::splat(4.0));
-            return k.f * batch::load(inv_vol + c0);
-          },
-          separate);
+      batch::PairGroup::words(t)[wc * batch::kG + static_cast<std::size_t>(group.n)] = full;
+      group.pending = group.pending || full != 0;
     }
 #endif
     for (; todo; todo &= todo - 1) {
@@ -387,13 +383,6 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop_conservative(const Con
       }
     }
   }
-#if defined(CKPD_BATCHED_TETRAHEDRA)
-  if constexpr (batched_tetrahedra<Model, kStencil>()) {
-    Ei += E;
-    Ej += E;
-    Ek += E;
-  }
-#endif
   centre.count.tetrahedra += n_tetrahedra;
   centre.count.inverted_tetrahedra += n_inverted;
   if (!any) return;

@@ -70,6 +70,14 @@ struct SymmetricKernelThread {
   std::size_t tri_centres = 0;
   unsigned tri_residues = 0;
 
+  // Grouped tetrahedra (tetrahedron_group.hpp): 4 x (up to 8) lanes of x, y, z and energy for
+  // the centre, then for each slot, still to be weighed; zero between centres (flush_lanes).
+  std::vector<double> lanes;
+  bool lanes_used = false;
+  // The group's candidate words and ill-conditioned sets (tetrahedron_group.hpp), up to 8 lanes
+  // per word; zero between groups.
+  std::vector<std::uint64_t> group_full, group_ill;
+
   SymmetricKernelStats stats;
   // Bonds this thread failed in a fused evaluation (bond_only.hpp): those it counts (failed)
   // and, on a rank's restriction, those from a ghost to an owned point (ghost_failed).
@@ -89,12 +97,15 @@ struct SymmetricKernelThread {
       for (auto* v : {&Rx, &Ry, &Rz, &rx, &ry, &rz, &k2, &e2, &k3, &e3, &vol, &inv_vol, &x3, &fx,
                       &fy, &fz, &w})
         v->resize(padded);
+      lanes.resize(32 * (padded + 1));  // new lanes are zero, the others are between centres
     }
     if (up.size() < slots) {
       up.resize(slots);
       list.resize(slots);
     }
     if (own.size() < row_words) {
+      group_full.resize(8 * row_words);  // new words are zero, the others are between groups
+      group_ill.resize(8 * row_words);
       own.resize(row_words);
       present.resize(row_words);
       exact_slots.resize(row_words);

@@ -32,6 +32,27 @@ inline void pair_loop(const Context<Model>& ctx, SymmetricKernelThread& t, Centr
       if (row[w] & exact_slots[w]) return true;
     return false;
   };
+  batch::PairGroup group;  // pairs of slot a whose tetrahedra wait for the group's evaluation
+#if defined(CKPD_BATCHED_TETRAHEDRA)
+  // The group's tetrahedra active for all four vertices (tetrahedron_group.hpp), weighed as the
+  // force form weighs its sets; ill-conditioned ones vertex by vertex as the scalar loops do.
+  double xi = 0;
+  if constexpr (kConservative && Model::kTetrahedra)
+    xi = ctx.body->volume[centre.index] *
+         ctx.model.tetrahedron_force_weight(ctx.body->dv3[centre.index]);
+  auto evaluate_group = [&](std::size_t a) {
+    const double pa[3] = {t.rx[a], t.ry[a], t.rz[a]};
+    const double xab = kConservative ? xi + t.x3[a] : 0.0;
+    batch::evaluate_group<Model, kEnergy, kPenalty, kConservative>(
+        ctx.model, t, centre, group, a, pa, xab, ctx.well3, ctx.lo3, [&](int l, std::size_t c) {
+          if constexpr (kConservative) {
+            separate_tetrahedron_conservative<Model, kEnergy>(ctx, t, centre, a, group.b[l], c, 15);
+          } else {
+            separate_tetrahedron<Model, kEnergy>(ctx, t, centre, a, group.b[l], c, 15);
+          }
+        });
+  };
+#endif
   for (std::size_t n = 0; n < count && rows; ++n) {
     Pair pr;
     const std::size_t a = list[n];
@@ -102,14 +123,25 @@ inline void pair_loop(const Context<Model>& ctx, SymmetricKernelThread& t, Centr
         if constexpr (Model::kTetrahedra) {
           if (ctx.triples) {
             if constexpr (kConservative) {
-              tetrahedron_loop_conservative<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
+              tetrahedron_loop_conservative<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr,
+                                                                                group);
             } else {
-              tetrahedron_loop<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
+              tetrahedron_loop<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr, group);
             }
+#if defined(CKPD_BATCHED_TETRAHEDRA)
+            if (group.pending) {
+              group.pending = false;
+              group.push(pr);
+              if (group.n == batch::kG) evaluate_group(a);
+            }
+#endif
           }
         }
       }
     }
+#if defined(CKPD_BATCHED_TETRAHEDRA)
+    if (group.n > 0) evaluate_group(a);
+#endif
   }
 }
 
@@ -134,6 +166,10 @@ void process_point(const Context<Model>& ctx, std::size_t i, SymmetricKernelThre
       triangle_batch_point<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre);
     } else {
       pair_loop<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, count, rows);
+#if defined(CKPD_BATCHED_TETRAHEDRA)
+      if constexpr (batched_tetrahedra<Model, kStencil>())
+        flush_group_lanes<Model, kEnergy>(ctx, t, centre, count);
+#endif
     }
   }
 

@@ -9,21 +9,56 @@
 // per-vertex accumulators.
 #include "bodies/symmetric/pair.hpp"
 #include "bodies/symmetric/per_vertex_terms.hpp"
-#include "bodies/symmetric/tetrahedron_batch.hpp"
+#include "bodies/symmetric/tetrahedron_group.hpp"
 
 namespace ckpd::symmetric {
+
+// An ill-conditioned tetrahedron {i, a, b, c} (or one near the degeneracy threshold): each
+// active vertex decides and evaluates its own term as the reference does.
+template <class Model, bool kEnergy>
+inline void separate_tetrahedron(const Context<Model>& ctx, SymmetricKernelThread& t,
+                                 Centre& centre, std::size_t a, std::size_t b, std::size_t c,
+                                 unsigned active) {
+  const std::uint32_t* up = t.up.data();
+  const std::uint32_t ii = centre.index, vj = up[a], vk = up[b], vl = up[c];
+  Vec3 f;
+  double w = 0;
+  bool seen = false, inverted = false, inv = false;
+  if ((active & 1) && reference_tetrahedron_term(ctx, ii, vj, vk, vl, f, w, inv)) {
+    centre.add<kEnergy>(t, 0, true, f, w);
+    seen = true;
+    inverted |= inv;
+  }
+  if ((active & 2) && reference_tetrahedron_term(ctx, vj, ii, vk, vl, f, w, inv)) {
+    centre.add<kEnergy>(t, a, false, f, w);
+    seen = true;
+    inverted |= inv;
+  }
+  if ((active & 4) && reference_tetrahedron_term(ctx, vk, ii, vj, vl, f, w, inv)) {
+    centre.add<kEnergy>(t, b, false, f, w);
+    seen = true;
+    inverted |= inv;
+  }
+  if ((active & 8) && reference_tetrahedron_term(ctx, vl, ii, vj, vk, f, w, inv)) {
+    centre.add<kEnergy>(t, c, false, f, w);
+    seen = true;
+    inverted |= inv;
+  }
+  if constexpr (kEnergy) centre.count.inverted_tetrahedra += inverted;
+  centre.count.tetrahedra += seen;
+  centre.count.tetrahedra_per_vertex += seen;
+}
 
 template <class Model, bool kEnergy, bool kPenalty, bool kStencil>
 CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop(const Context<Model>& ctx,
                                                           SymmetricKernelThread& t, Centre& centre,
-                                                          const Pair& pr) {
+                                                          const Pair& pr, batch::PairGroup& group) {
   const Model& model = ctx.model;
   const Body& body = *ctx.body;
   const LatticeStencil* st = ctx.stencil;
   const std::size_t W = t.words, a = pr.a, b = pr.b;
   const std::uint64_t* own = t.own.data();
   const std::uint64_t* present = t.present.data();
-  const std::uint32_t* __restrict up = t.up.data();
   const double* __restrict Rx = t.Rx.data();
   const double* __restrict Ry = t.Ry.data();
   const double* __restrict Rz = t.Rz.data();
@@ -87,46 +122,14 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop(const Context<Model>& 
     any = true;
     ++n_tetrahedra;
   };
-  // An ill-conditioned tetrahedron (or one near the degeneracy threshold): each active vertex
-  // decides and evaluates its own term as the reference does.
   auto separate = [&](std::size_t c, unsigned active) {
-    const std::uint32_t ii = centre.index, vj = up[a], vk = up[b], vl = up[c];
-    Vec3 f;
-    double w = 0;
-    bool seen = false, inverted = false, inv = false;
-    if ((active & 1) && reference_tetrahedron_term(ctx, ii, vj, vk, vl, f, w, inv)) {
-      centre.add<kEnergy>(t, 0, true, f, w);
-      seen = true;
-      inverted |= inv;
-    }
-    if ((active & 2) && reference_tetrahedron_term(ctx, vj, ii, vk, vl, f, w, inv)) {
-      centre.add<kEnergy>(t, a, false, f, w);
-      seen = true;
-      inverted |= inv;
-    }
-    if ((active & 4) && reference_tetrahedron_term(ctx, vk, ii, vj, vl, f, w, inv)) {
-      centre.add<kEnergy>(t, b, false, f, w);
-      seen = true;
-      inverted |= inv;
-    }
-    if ((active & 8) && reference_tetrahedron_term(ctx, vl, ii, vj, vk, f, w, inv)) {
-      centre.add<kEnergy>(t, c, false, f, w);
-      seen = true;
-      inverted |= inv;
-    }
-    if constexpr (kEnergy) n_inverted += inverted;
-    n_tetrahedra += seen;
-    centre.count.tetrahedra_per_vertex += seen;
+    separate_tetrahedron<Model, kEnergy>(ctx, t, centre, a, b, c, active);
   };
   // Stencil path: the pair's row of non-degenerate triples; triple (a, b, c) is number
   // triple_base[pair] + the rank of c in that row, and its entry is 1 / V.
   const std::uint64_t* triple_row = kStencil ? &st->triple_row[pr.number * W] : nullptr;
   std::size_t triple_rank = kStencil ? st->triple_base[pr.number] : 0;
-#if defined(CKPD_BATCHED_TETRAHEDRA)
-  const batch::Geometry geometry(Rx, Ry, Rz, rx, ry, rz, pq, RPQ);
-  const batch::Rows rows{fx, fy, fz, slot_w, e3};
-  const batch::Tally tally{S, F, E, n_tetrahedra, n_inverted, any};
-#endif
+
   for (std::size_t wc = b >> 6; wc < W; ++wc) {
     std::uint64_t cand;
     std::size_t word_triple = 0;
@@ -156,12 +159,9 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop(const Context<Model>& 
     std::uint64_t part = cand & (mi | mj | mk | ml) & ~full;
 #if defined(CKPD_BATCHED_TETRAHEDRA)
     if constexpr (batched_tetrahedra<Model, kStencil>()) {
-      // Blocks of 4 slots with any such c (tetrahedron_batch.hpp), weighed by k3 per slot.
-      batch::book_full_blocks<Model, kEnergy, kPenalty, kStencil>(
-          model, geometry, st, full, wc, kStencil ? triple_row[wc] : 0, word_triple, ctx.well3,
-          ctx.lo3, rows, tally,
-          [&](const batch::Block& k, std::size_t c0) { return batch::load(k3 + c0) * k.f; },
-          separate);
+      // Evaluated with the group's other pairs (tetrahedron_group.hpp).
+      batch::PairGroup::words(t)[wc * batch::kG + static_cast<std::size_t>(group.n)] = full;
+      group.pending = group.pending || full != 0;
       full = 0;
     }
 #endif

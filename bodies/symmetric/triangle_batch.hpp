@@ -141,11 +141,7 @@ inline const FullPairs& full_pairs(const Context<Model>& ctx, SymmetricKernelThr
 #if defined(CKPD_BATCHED_TETRAHEDRA)
 // The square root of every lane (correctly rounded, as std::sqrt).
 inline batch::d4 lanes_sqrt(batch::d4 v) {
-#if CKPD_TETRAHEDRON_LANES == 4
   return reinterpret_cast<batch::d4>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(v)));
-#else
-  return reinterpret_cast<batch::d4>(_mm512_sqrt_pd(reinterpret_cast<__m512d>(v)));
-#endif
 }
 #endif
 
