@@ -256,8 +256,7 @@ inline void separate_tetrahedron_conservative(const Context<Model>& ctx, Symmetr
 template <class Model, bool kEnergy, bool kPenalty, bool kStencil>
 CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop_conservative(const Context<Model>& ctx,
                                                                        SymmetricKernelThread& t,
-                                                                       Centre& centre,
-                                                                       const Pair& pr,
+                                                                       Centre& centre, Pair& pr,
                                                                        batch::PairGroup& group) {
   const Model& model = ctx.model;
   const Body& body = *ctx.body;
@@ -361,6 +360,8 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop_conservative(const Con
       group.pending = group.pending || full != 0;
     }
 #endif
+    // P x Q and p x q for the sets evaluated here (the group computes its own).
+    if (todo) pr.cross(t);
     for (; todo; todo &= todo - 1) {
       const std::size_t c = wc * 64 + static_cast<std::size_t>(std::countr_zero(todo));
       const unsigned s = static_cast<unsigned>(c & 63);

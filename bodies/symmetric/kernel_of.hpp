@@ -41,12 +41,13 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
     fused.failing = workspace.failing.data();
     fused.touched = workspace.touched.data();
   }
-  if (uses_lattice_stencil(body)) {
-    ctx.stencil = body.stencil.get();
-    if (ctx.intact != nullptr) {
-      if (workspace.row_failed.size() < n) workspace.row_failed.resize(n);
-      ctx.row_failed = workspace.row_failed.data();
-    }
+  if (uses_lattice_stencil(body)) ctx.stencil = body.stencil.get();
+  // Per point, whether a bond of its row has failed: a centre with none in its own row and its
+  // upper neighbours' has an intact family (its rows need no intact copy, and its tetrahedra
+  // go to the groups alone: intact_pair_loop).
+  if (ctx.intact != nullptr && !bonds_only) {
+    if (workspace.row_failed.size() < n) workspace.row_failed.resize(n);
+    ctx.row_failed = workspace.row_failed.data();
   }
   int team = 1;
   // Static schedule: which thread handles which point is a function of the thread count only,
@@ -70,7 +71,7 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
     // dealt to threads dynamically), and the energy step would then allocate.
     if (th.energy.capacity() < n) th.energy.reserve(n);
     if (with_energy) th.energy.assign(n, 0.0);
-    if (ctx.stencil != nullptr && ctx.intact != nullptr) {
+    if (ctx.row_failed != nullptr) {
 #pragma omp for schedule(static)
       for (std::size_t i = 0; i < n; ++i) {
         std::uint8_t failed = 0;

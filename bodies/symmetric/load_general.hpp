@@ -29,16 +29,21 @@ inline std::size_t load_upper_family(const Context<Model>& ctx, std::size_t i,
   if (m % 64) t.present[W - 1] = (std::uint64_t{1} << (m % 64)) - 1;
   t.count = m;
   t.intact_is_adjacency = false;
+  bool failed_near = ctx.row_failed != nullptr && ctx.row_failed[i] != 0;
   for (std::size_t a = 0; a < m; ++a) {
     const std::uint32_t j = nb[first + a];
     t.up[a] = j;
     t.list[a] = static_cast<std::uint32_t>(a);
     fill_slot(ctx, t, a, j, Xi, ui);
     if (ctx.bond_intact(first + a)) set_bit(t.own.data(), a);
+    if (ctx.row_failed != nullptr) failed_near = failed_near || ctx.row_failed[j] != 0;
   }
   mark_exact_slots(ctx, t, i);
   if (!rows) return m;
   merge_csr_rows(ctx, t, t.adj.data());
+  // No failed bond in the rows of i and its upper neighbours: the intact rows are the adjacency
+  // (as on the stencil path).
+  t.intact_is_adjacency = !failed_near;
   return m;
 }
 

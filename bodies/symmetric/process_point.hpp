@@ -17,9 +17,10 @@ namespace ckpd::symmetric {
 
 // The pairs (a, b) of point i's upper family, one by one: the triangle {i, a, b} and the
 // tetrahedra on it.
-template <class Model, bool kEnergy, bool kPenalty, bool kStencil>
+template <class Model, bool kEnergy, bool kPenalty, bool kStencil, class EvaluateGroup>
 inline void pair_loop(const Context<Model>& ctx, SymmetricKernelThread& t, Centre& centre,
-                      std::size_t count, bool rows) {
+                      std::size_t count, bool rows, batch::PairGroup& group,
+                      EvaluateGroup&& evaluate_group) {
   constexpr bool kConservative = conservative_form<Model>();
   const LatticeStencil* st = ctx.stencil;
   const std::uint32_t* list = t.list.data();
@@ -32,27 +33,6 @@ inline void pair_loop(const Context<Model>& ctx, SymmetricKernelThread& t, Centr
       if (row[w] & exact_slots[w]) return true;
     return false;
   };
-  batch::PairGroup group;  // pairs of slot a whose tetrahedra wait for the group's evaluation
-#if defined(CKPD_BATCHED_TETRAHEDRA)
-  // The group's tetrahedra active for all four vertices (tetrahedron_group.hpp), weighed as the
-  // force form weighs its sets; ill-conditioned ones vertex by vertex as the scalar loops do.
-  double xi = 0;
-  if constexpr (kConservative && Model::kTetrahedra)
-    xi = ctx.body->volume[centre.index] *
-         ctx.model.tetrahedron_force_weight(ctx.body->dv3[centre.index]);
-  auto evaluate_group = [&](std::size_t a) {
-    const double pa[3] = {t.rx[a], t.ry[a], t.rz[a]};
-    const double xab = kConservative ? xi + t.x3[a] : 0.0;
-    batch::evaluate_group<Model, kEnergy, kPenalty, kConservative>(
-        ctx.model, t, centre, group, a, pa, xab, ctx.well3, ctx.lo3, [&](int l, std::size_t c) {
-          if constexpr (kConservative) {
-            separate_tetrahedron_conservative<Model, kEnergy>(ctx, t, centre, a, group.b[l], c, 15);
-          } else {
-            separate_tetrahedron<Model, kEnergy>(ctx, t, centre, a, group.b[l], c, 15);
-          }
-        });
-  };
-#endif
   for (std::size_t n = 0; n < count && rows; ++n) {
     Pair pr;
     const std::size_t a = list[n];
@@ -66,7 +46,6 @@ inline void pair_loop(const Context<Model>& ctx, SymmetricKernelThread& t, Centr
     // Stencil path: pair (a, b) is number pair_base[a] + the rank of b in a's stencil row.
     std::size_t pair_rank = kStencil ? st->pair_base[a] : 0;
     const bool own_a = bit(own, a);
-    const double Pa[3] = {t.Rx[a], t.Ry[a], t.Rz[a]};
     pr.pa[0] = t.rx[a];
     pr.pa[1] = t.ry[a];
     pr.pa[2] = t.rz[a];
@@ -99,20 +78,13 @@ inline void pair_loop(const Context<Model>& ctx, SymmetricKernelThread& t, Centr
         pr.act_i = ctx.all_edges ? pr.edges_ab : own_a && own_b;
         pr.act_j = ctx.all_edges ? pr.edges_ab : own_a && bond_ab;
         pr.act_k = ctx.all_edges ? pr.edges_ab : own_b && bond_ab;
-        const double Pb[3] = {t.Rx[b], t.Ry[b], t.Rz[b]};
         pr.pb[0] = t.rx[b];
         pr.pb[1] = t.ry[b];
         pr.pb[2] = t.rz[b];
-        const double* pa = pr.pa;
-        const double* pb = pr.pb;
-        pr.RPQ[0] = Pa[1] * Pb[2] - Pa[2] * Pb[1];
-        pr.RPQ[1] = Pa[2] * Pb[0] - Pa[0] * Pb[2];
-        pr.RPQ[2] = Pa[0] * Pb[1] - Pa[1] * Pb[0];
-        pr.pq[0] = pa[1] * pb[2] - pa[2] * pb[1];
-        pr.pq[1] = pa[2] * pb[0] - pa[0] * pb[2];
-        pr.pq[2] = pa[0] * pb[1] - pa[1] * pb[0];
+        pr.crossed = false;  // P x Q and p x q when a set evaluated here needs them
         if constexpr (Model::kTriangles) {
           if (ctx.pairs && pr.only == nullptr) {
+            pr.cross(t);
             if constexpr (kConservative) {
               triangle_term_conservative<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
             } else {
@@ -131,7 +103,7 @@ inline void pair_loop(const Context<Model>& ctx, SymmetricKernelThread& t, Centr
 #if defined(CKPD_BATCHED_TETRAHEDRA)
             if (group.pending) {
               group.pending = false;
-              group.push(pr);
+              group.push(pr.b, t);
               if (group.n == batch::kG) evaluate_group(a);
             }
 #endif
@@ -144,6 +116,63 @@ inline void pair_loop(const Context<Model>& ctx, SymmetricKernelThread& t, Centr
 #endif
   }
 }
+
+#if defined(CKPD_BATCHED_TETRAHEDRA)
+// The pairs of a centre whose family is intact (no failed bond among i and its upper
+// neighbours, none of i's own), evaluated with the groups alone: every tetrahedron is active for
+// all four vertices, so a pair's candidates are its group words (the stencil's triple row on
+// the present slots, or rows a and b), with no per-vertex masks, flags or scalar sets. Only where
+// nothing else is evaluated per pair: no triangles and no far-field masking.
+template <bool kStencil, class EvaluateGroup>
+inline void intact_pair_loop(const ContextBase& ctx, SymmetricKernelThread& t, std::size_t count,
+                             batch::PairGroup& group, EvaluateGroup&& evaluate_group) {
+  const LatticeStencil* st = ctx.stencil;
+  const std::uint32_t* list = t.list.data();
+  const std::size_t W = t.words;
+  const std::uint64_t* present = t.present.data();
+  std::uint64_t* words = batch::PairGroup::words(t);
+  for (std::size_t n = 0; n < count; ++n) {
+    const std::size_t a = list[n];
+    const std::uint64_t* ra = &t.adj[a * W];
+    std::size_t pair_rank = kStencil ? st->pair_base[a] : 0;
+    for (std::size_t wb = a >> 6; wb < W; ++wb) {
+      std::uint64_t stencil_row = 0;
+      std::size_t word_rank = 0;
+      if constexpr (kStencil) {
+        stencil_row = st->adjacency[a * W + wb];
+        word_rank = pair_rank;
+        pair_rank += static_cast<std::size_t>(std::popcount(stencil_row));
+      }
+      for (std::uint64_t bbits = ra[wb]; bbits; bbits &= bbits - 1) {
+        const std::size_t b = wb * 64 + static_cast<std::size_t>(std::countr_zero(bbits));
+        const std::uint64_t* first;  // the pair's candidates: second & rows (general) or present
+        const std::uint64_t* second;
+        if constexpr (kStencil) {
+          const std::size_t number =
+              word_rank + static_cast<std::size_t>(
+                              std::popcount(stencil_row & ((std::uint64_t{1} << (b & 63)) - 1)));
+          first = &st->triple_row[number * W];
+          second = present;
+        } else {
+          first = ra;
+          second = &t.adj[b * W];
+        }
+        std::uint64_t any = 0;
+        std::uint64_t* lane = words + static_cast<std::size_t>(group.n);
+        for (std::size_t wc = b >> 6; wc < W; ++wc) {
+          const std::uint64_t cand = first[wc] & second[wc];
+          lane[wc * batch::kG] = cand;
+          any |= cand;
+        }
+        if (!any) continue;
+        group.push(b, t);
+        if (group.n == batch::kG) evaluate_group(a);
+      }
+    }
+    if (group.n > 0) evaluate_group(a);
+  }
+}
+#endif
 
 template <class Model, bool kEnergy, bool kPenalty, bool kStencil>
 void process_point(const Context<Model>& ctx, std::size_t i, SymmetricKernelThread& t) {
@@ -165,10 +194,45 @@ void process_point(const Context<Model>& ctx, std::size_t i, SymmetricKernelThre
     if (rows && planar_centre(ctx, t)) {
       triangle_batch_point<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre);
     } else {
-      pair_loop<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, count, rows);
+      batch::PairGroup group;  // pairs of slot a whose tetrahedra wait for the group's evaluation
 #if defined(CKPD_BATCHED_TETRAHEDRA)
-      if constexpr (batched_tetrahedra<Model, kStencil>())
+      // The group's tetrahedra active for all four vertices (tetrahedron_group.hpp), weighed as the
+      // force form weighs its sets; ill-conditioned ones vertex by vertex as the scalar loops do.
+      double xi = 0;
+      if constexpr (kConservative && Model::kTetrahedra)
+        xi = ctx.body->volume[centre.index] *
+             ctx.model.tetrahedron_force_weight(ctx.body->dv3[centre.index]);
+      auto evaluate_group = [&](std::size_t a) {
+        const double pa[3] = {t.rx[a], t.ry[a], t.rz[a]};
+        const double Pa[3] = {t.Rx[a], t.Ry[a], t.Rz[a]};
+        const double xab = kConservative ? xi + t.x3[a] : 0.0;
+        batch::evaluate_group<Model, kEnergy, kPenalty, kConservative>(
+            ctx.model, t, centre, group, a, pa, Pa, xab, ctx.well3, ctx.lo3,
+            [&](int l, std::size_t c) {
+              if constexpr (kConservative) {
+                separate_tetrahedron_conservative<Model, kEnergy>(ctx, t, centre, a, group.b[l], c,
+                                                                  15);
+              } else {
+                separate_tetrahedron<Model, kEnergy>(ctx, t, centre, a, group.b[l], c, 15);
+              }
+            });
+      };
+      if constexpr (batched_tetrahedra<Model, kStencil>()) {
+        if (!(Model::kTriangles && ctx.pairs) && ctx.triples && !t.linear_centre &&
+            intact_centre(t)) {
+          intact_pair_loop<kStencil>(ctx, t, count, group, evaluate_group);
+        } else {
+          pair_loop<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, count, rows, group,
+                                                        evaluate_group);
+        }
         flush_group_lanes<Model, kEnergy>(ctx, t, centre, count);
+      } else {
+        pair_loop<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, count, rows, group,
+                                                      evaluate_group);
+      }
+#else
+      pair_loop<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, count, rows, group,
+                                                    [](std::size_t) {});
 #endif
     }
   }

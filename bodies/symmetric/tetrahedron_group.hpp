@@ -35,23 +35,24 @@ struct PairGroup {
   int n = 0;
   bool pending = false;  // the pair being loaded wrote candidate words to lane n
   std::size_t b[kG] = {};
-  alignas(8 * kG) double pq[3][kG] = {};
-  alignas(8 * kG) double RPQ[3][kG] = {};
+  // Per lane: b's current and reference offsets (the lanes' p x q and P x Q follow with a's).
   alignas(8 * kG) double pb[3][kG] = {};
+  alignas(8 * kG) double Pb[3][kG] = {};
   std::size_t first_word = 0;  // the first lane's b >> 6: no lane has candidates below it
 
   // Lane n's candidate words (all four vertices active) in t.group_full: word w of lane l at
   // [w * kG + l], zero outside the lanes' pairs.
   static std::uint64_t* words(SymmetricKernelThread& t) { return t.group_full.data(); }
-  void push(const Pair& pr) {
+  void push(std::size_t slot, const SymmetricKernelThread& t) {
     const int l = n++;
-    if (l == 0) first_word = pr.b >> 6;
-    b[l] = pr.b;
-    for (int d = 0; d < 3; ++d) {
-      pq[d][l] = pr.pq[d];
-      RPQ[d][l] = pr.RPQ[d];
-      pb[d][l] = pr.pb[d];
-    }
+    if (l == 0) first_word = slot >> 6;
+    b[l] = slot;
+    pb[0][l] = t.rx[slot];
+    pb[1][l] = t.ry[slot];
+    pb[2][l] = t.rz[slot];
+    Pb[0][l] = t.Rx[slot];
+    Pb[1][l] = t.Ry[slot];
+    Pb[2][l] = t.Rz[slot];
   }
 };
 
@@ -68,8 +69,8 @@ inline void add_lane(double* g, int l, double x, double y, double z) {
 // vertices' mean (zero for own_family, whose sets need no weight here).
 template <class Model, bool kEnergy, bool kPenalty, bool kConservative, class Separate>
 inline void evaluate_group(const Model& model, SymmetricKernelThread& t, Centre& centre,
-                           PairGroup& g, std::size_t a, const double pa[3], double xab,
-                           double well3, double lo3, Separate&& separate) {
+                           PairGroup& g, std::size_t a, const double pa[3], const double Pa[3],
+                           double xab, double well3, double lo3, Separate&& separate) {
   const std::size_t W = t.words;
   std::uint64_t* full = PairGroup::words(t);
   const double* __restrict rx = t.rx.data();
@@ -80,8 +81,18 @@ inline void evaluate_group(const Model& model, SymmetricKernelThread& t, Centre&
   const double* __restrict Rz = t.Rz.data();
   const double* __restrict x3 = t.x3.data();
   double* lanes = t.lanes.data();
-  const gd q0 = loadv<gd>(g.pq[0]), q1 = loadv<gd>(g.pq[1]), q2 = loadv<gd>(g.pq[2]);
-  const gd R0 = loadv<gd>(g.RPQ[0]), R1 = loadv<gd>(g.RPQ[1]), R2 = loadv<gd>(g.RPQ[2]);
+  // The lanes' p x q and P x Q, as Pair::cross computes them.
+  const gd a0 = splatv<gd>(pa[0]), a1 = splatv<gd>(pa[1]), a2 = splatv<gd>(pa[2]);
+  const gd b0 = loadv<gd>(g.pb[0]), b1 = loadv<gd>(g.pb[1]), b2 = loadv<gd>(g.pb[2]);
+  const gd q0 = a1 * b2 - a2 * b1, q1 = a2 * b0 - a0 * b2, q2 = a0 * b1 - a1 * b0;
+  gd R0, R1, R2;
+  {
+    const gd A0 = splatv<gd>(Pa[0]), A1 = splatv<gd>(Pa[1]), A2 = splatv<gd>(Pa[2]);
+    const gd B0 = loadv<gd>(g.Pb[0]), B1 = loadv<gd>(g.Pb[1]), B2 = loadv<gd>(g.Pb[2]);
+    R0 = A1 * B2 - A2 * B1;
+    R1 = A2 * B0 - A0 * B2;
+    R2 = A0 * B1 - A1 * B0;
+  }
   gd xw = splatv<gd>(0.0);
   if constexpr (kConservative) {
     alignas(8 * kG) double x[kG] = {};
@@ -157,8 +168,6 @@ inline void evaluate_group(const Model& model, SymmetricKernelThread& t, Centre&
   if constexpr (kEnergy) centre.count.inverted_tetrahedra += inverted;
   // The pairs' last lines, lane by lane: i gets (q - p) x S + pq F, a gets q x S, b gets S x p
   // (each to be weighed and subtracted, as the scalar loop's lines).
-  const gd a0 = splatv<gd>(pa[0]), a1 = splatv<gd>(pa[1]), a2 = splatv<gd>(pa[2]);
-  const gd b0 = loadv<gd>(g.pb[0]), b1 = loadv<gd>(g.pb[1]), b2 = loadv<gd>(g.pb[2]);
   const gd d0 = b0 - a0, d1 = b1 - a1, d2 = b2 - a2;
   double* gcen = lanes;
   storev(gcen, loadv<gd>(gcen) + ((d1 * s2 - d2 * s1) + q0 * sf));
@@ -191,7 +200,7 @@ inline void evaluate_group(const Model& model, SymmetricKernelThread& t, Centre&
       std::uint64_t& ill = t.group_ill[wc * kG + static_cast<std::size_t>(l)];
       for (std::uint64_t bitsl = ill; bitsl; bitsl &= bitsl - 1) {
         const std::size_t c = wc * 64 + static_cast<std::size_t>(std::countr_zero(bitsl));
-        const double V = std::abs(g.RPQ[0][l] * Rx[c] + g.RPQ[1][l] * Ry[c] + g.RPQ[2][l] * Rz[c]);
+        const double V = std::abs(R0[l] * Rx[c] + R1[l] * Ry[c] + R2[l] * Rz[c]);
         if (V >= lo3) separate(l, c);
       }
       ill = 0;
@@ -245,6 +254,19 @@ inline void flush_group_lanes(const Context<Model>& ctx, SymmetricKernelThread& 
   }
 }
 
+#else
+namespace batch {
+struct PairGroup {};  // no groups without the vector lanes
+}  // namespace batch
 #endif  // CKPD_BATCHED_TETRAHEDRA
+
+// Centre i's family is intact: no failed bond among i and its upper neighbours (the intact rows
+// are the adjacency) and none of i's own.
+inline bool intact_centre(const SymmetricKernelThread& t) {
+  if (!t.intact_is_adjacency) return false;
+  for (std::size_t w = 0; w < t.words; ++w)
+    if (t.own[w] != t.present[w]) return false;
+  return true;
+}
 
 }  // namespace ckpd::symmetric

@@ -52,7 +52,7 @@ inline void separate_tetrahedron(const Context<Model>& ctx, SymmetricKernelThrea
 template <class Model, bool kEnergy, bool kPenalty, bool kStencil>
 CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop(const Context<Model>& ctx,
                                                           SymmetricKernelThread& t, Centre& centre,
-                                                          const Pair& pr, batch::PairGroup& group) {
+                                                          Pair& pr, batch::PairGroup& group) {
   const Model& model = ctx.model;
   const Body& body = *ctx.body;
   const LatticeStencil* st = ctx.stencil;
@@ -165,6 +165,8 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop(const Context<Model>& 
       full = 0;
     }
 #endif
+    // P x Q and p x q for the sets evaluated here (the group computes its own).
+    if (full | part) pr.cross(t);
     for (; full; full &= full - 1) {
       const std::size_t c = wc * 64 + static_cast<std::size_t>(std::countr_zero(full));
       // signed_V: the signed reference volume (general path) or its inverse (stencil); only
