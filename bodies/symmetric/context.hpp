@@ -278,18 +278,18 @@ inline void mark_exact_slots(const ContextBase& ctx, SymmetricKernelThread& t, s
 }
 
 // Rows by merging CSR rows: for each present slot a (in list order) and each later present slot
-// b, whether up[b] is in H1(up[a]) (into `adjacency`, when given) and whether that bond is intact
-// (into adj_intact), found by merging the two sorted index lists; the bond's intact flag is read
-// at the matching CSR position of up[a]'s row.
+// b, whether up[b] is in H1(up[a]) (into `adjacency`, when given) and, with `intact_rows`,
+// whether that bond is intact (into adj_intact), found by merging the two sorted index lists; the
+// bond's intact flag is read at the matching CSR position of up[a]'s row.
 inline void merge_csr_rows(const ContextBase& ctx, SymmetricKernelThread& t,
-                           std::uint64_t* adjacency) {
+                           std::uint64_t* adjacency, bool intact_rows = true) {
   const std::uint32_t* nb = ctx.neighbour;
   const std::size_t W = t.words, count = t.count;
   for (std::size_t n = 0; n < count; ++n) {
     const std::size_t a = t.list[n];
     std::uint64_t* row = adjacency != nullptr ? adjacency + a * W : nullptr;
-    std::uint64_t* irow = &t.adj_intact[a * W];
-    std::fill_n(irow, W, 0);
+    std::uint64_t* irow = intact_rows ? &t.adj_intact[a * W] : nullptr;
+    if (irow != nullptr) std::fill_n(irow, W, 0);
     if (row != nullptr) std::fill_n(row, W, 0);
     if (n + 1 == count) break;
     const std::uint32_t j = t.up[a];
@@ -301,7 +301,7 @@ inline void merge_csr_rows(const ContextBase& ctx, SymmetricKernelThread& t,
       const std::uint32_t x = nb[kk], y = t.up[t.list[q]];
       if (x == y) {
         if (row != nullptr) set_bit(row, t.list[q]);
-        if (ctx.bond_intact(kk)) set_bit(irow, t.list[q]);
+        if (irow != nullptr && ctx.bond_intact(kk)) set_bit(irow, t.list[q]);
         ++kk;
         ++q;
       } else if (x < y) {

@@ -40,9 +40,9 @@ inline std::size_t load_upper_family(const Context<Model>& ctx, std::size_t i,
   }
   mark_exact_slots(ctx, t, i);
   if (!rows) return m;
-  merge_csr_rows(ctx, t, t.adj.data());
   // No failed bond in the rows of i and its upper neighbours: the intact rows are the adjacency
-  // (as on the stencil path).
+  // (as on the stencil path), not built.
+  merge_csr_rows(ctx, t, t.adj.data(), failed_near);
   t.intact_is_adjacency = !failed_near;
   return m;
 }

@@ -64,7 +64,7 @@ inline void add_lane(double* g, int l, double x, double y, double z) {
 }
 
 // The group's tetrahedra, then its pairs' shares of i, a and the b_l. `separate(l, c)`
-// evaluates an ill-conditioned set (|V| <= well3, >= lo3) of lane l vertex by vertex, as the
+// evaluates an ill-conditioned set (lo3 <= |V| <= well3) of lane l vertex by vertex, as the
 // scalar loop does; `xab` (energy_consistent: V k3 of i plus a's) weighs the sets by their
 // vertices' mean (zero for own_family, whose sets need no weight here).
 template <class Model, bool kEnergy, bool kPenalty, bool kConservative, class Separate>
@@ -119,9 +119,12 @@ inline void evaluate_group(const Model& model, SymmetricKernelThread& t, Centre&
       const gd V = abs(signed_V);
       const gi use = live & (V > well3);
       const unsigned use_bits = bits(use);
-      if (bits(live) != use_bits) {
-        // Ill-conditioned lanes: kept for separate() after the loop (rare on lattices).
-        const unsigned ill = bits(live) & ~use_bits;
+      // Ill-conditioned lanes (lo3 <= |V| <= well3; as the scalar loop decides it): kept for
+      // separate() after the loop, rare on lattices. Degenerate ones (|V| < lo3: 14 % of a
+      // lattice's candidates on the general path, which has no stencil to leave them out) are
+      // no sets: left out, as by the scalar loop.
+      const unsigned ill = bits(live & (V >= lo3)) & ~use_bits;
+      if (ill != 0) {
         for (int l = 0; l < kG; ++l)
           if ((ill >> l) & 1)
             t.group_ill[wc * kG + static_cast<std::size_t>(l)] |= std::uint64_t{1} << s;
@@ -198,11 +201,8 @@ inline void evaluate_group(const Model& model, SymmetricKernelThread& t, Centre&
       full[wc * kG + static_cast<std::size_t>(l)] = 0;
       if (!ill_any) continue;
       std::uint64_t& ill = t.group_ill[wc * kG + static_cast<std::size_t>(l)];
-      for (std::uint64_t bitsl = ill; bitsl; bitsl &= bitsl - 1) {
-        const std::size_t c = wc * 64 + static_cast<std::size_t>(std::countr_zero(bitsl));
-        const double V = std::abs(R0[l] * Rx[c] + R1[l] * Ry[c] + R2[l] * Rz[c]);
-        if (V >= lo3) separate(l, c);
-      }
+      for (std::uint64_t bitsl = ill; bitsl; bitsl &= bitsl - 1)
+        separate(l, wc * 64 + static_cast<std::size_t>(std::countr_zero(bitsl)));
       ill = 0;
     }
   }
