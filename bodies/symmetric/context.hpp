@@ -88,16 +88,12 @@ struct SymmetricKernelThread {
   // on the 2D stencil path at 2 threads, docs/PERFORMANCE.md).
   char false_sharing_pad[128] = {};
 
-  // The per-slot arrays of doubles hold row_words * 64 + 7 entries at least (past the slots:
-  // zero or an earlier point's finite values), so that a block of 4 (or 8) slots starting at any
-  // slot of a row's words can be loaded and stored whole (tetrahedron_batch.hpp).
   void reserve(std::size_t slots, std::size_t row_words) {
-    const std::size_t padded = std::max(slots, row_words * 64 + 7);
-    if (Rx.size() < padded) {
+    if (Rx.size() < slots) {
       for (auto* v : {&Rx, &Ry, &Rz, &rx, &ry, &rz, &k2, &e2, &k3, &e3, &vol, &inv_vol, &x3, &fx,
                       &fy, &fz, &w})
-        v->resize(padded);
-      lanes.resize(32 * (padded + 1));  // new lanes are zero, the others are between centres
+        v->resize(slots);
+      lanes.resize(32 * (slots + 1));  // new lanes are zero, the others are between centres
     }
     if (up.size() < slots) {
       up.resize(slots);
