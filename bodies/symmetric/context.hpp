@@ -263,6 +263,32 @@ inline void fill_slot(const Context<Model>& ctx, SymmetricKernelThread& t, std::
   t.fx[a] = t.fy[a] = t.fz[a] = t.w[a] = 0;
 }
 
+// The slots b of bit row `row` of slot a (its words from a's on), in increasing order, each with
+// its pair's number in the stencil's tables on the stencil path (pair_base[a] + the rank of b in
+// a's stencil row; 0 on the general path): f(b, number).
+template <bool kStencil, class F>
+inline void for_each_pair_of(const LatticeStencil* st, std::size_t a, const std::uint64_t* row,
+                             std::size_t W, F&& f) {
+  std::size_t pair_rank = kStencil ? st->pair_base[a] : 0;
+  for (std::size_t wb = a >> 6; wb < W; ++wb) {
+    std::uint64_t stencil_row = 0;
+    std::size_t word_rank = 0;
+    if constexpr (kStencil) {
+      stencil_row = st->adjacency[a * W + wb];
+      word_rank = pair_rank;
+      pair_rank += static_cast<std::size_t>(std::popcount(stencil_row));
+    }
+    for (std::uint64_t bits = row[wb]; bits; bits &= bits - 1) {
+      const std::size_t b = wb * 64 + static_cast<std::size_t>(std::countr_zero(bits));
+      const std::size_t number =
+          kStencil ? word_rank + static_cast<std::size_t>(std::popcount(
+                                     stencil_row & ((std::uint64_t{1} << (b & 63)) - 1)))
+                   : 0;
+      f(b, number);
+    }
+  }
+}
+
 // After a load: whether centre i is linear under the far field's masking, and then which of
 // its present slots (t.list) hold exact points.
 inline void mark_exact_slots(const ContextBase& ctx, SymmetricKernelThread& t, std::size_t i) {

@@ -19,8 +19,8 @@ namespace ckpd::symmetric {
 // tetrahedra on it.
 template <class Model, bool kEnergy, bool kPenalty, bool kStencil, class EvaluateGroup>
 inline void pair_loop(const Context<Model>& ctx, SymmetricKernelThread& t, Centre& centre,
-                      std::size_t count, bool rows, batch::PairGroup& group,
-                      EvaluateGroup&& evaluate_group) {
+                      std::size_t count, bool rows, [[maybe_unused]] batch::PairGroup& group,
+                      [[maybe_unused]] EvaluateGroup&& evaluate_group) {
   constexpr bool kConservative = conservative_form<Model>();
   const LatticeStencil* st = ctx.stencil;
   const std::uint32_t* list = t.list.data();
@@ -43,74 +43,60 @@ inline void pair_loop(const Context<Model>& ctx, SymmetricKernelThread& t, Centr
     const bool linear_a = exact_slots != nullptr && !bit(exact_slots, a);
     if (linear_a && !meets_exact(pr.ra, a >> 6)) continue;
     pr.ia = t.intact_is_adjacency ? pr.ra : &t.adj_intact[a * W];
-    // Stencil path: pair (a, b) is number pair_base[a] + the rank of b in a's stencil row.
-    std::size_t pair_rank = kStencil ? st->pair_base[a] : 0;
     const bool own_a = bit(own, a);
     pr.pa[0] = t.rx[a];
     pr.pa[1] = t.ry[a];
     pr.pa[2] = t.rz[a];
-    for (std::size_t wb = a >> 6; wb < W; ++wb) {
-      std::uint64_t stencil_row = 0;
-      std::size_t word_rank = 0;
-      if constexpr (kStencil) {
-        stencil_row = st->adjacency[a * W + wb];
-        word_rank = pair_rank;
-        pair_rank += static_cast<std::size_t>(std::popcount(stencil_row));
+    for_each_pair_of<kStencil>(st, a, pr.ra, W, [&](std::size_t b, std::size_t number) {
+      pr.only = nullptr;
+      if (linear_a && !bit(exact_slots, b)) {
+        // i, a, b linear: only tetrahedra with an exact fourth vertex c (in rows a and b).
+        const std::uint64_t* rb = &t.adj[b * W];
+        bool any = false;
+        for (std::size_t w = b >> 6; w < W && !any; ++w)
+          any = (pr.ra[w] & rb[w] & exact_slots[w]) != 0;
+        if (!any) return;
+        pr.only = exact_slots;
       }
-      for (std::uint64_t bbits = pr.ra[wb]; bbits; bbits &= bbits - 1) {
-        const std::size_t b = wb * 64 + static_cast<std::size_t>(std::countr_zero(bbits));
-        pr.only = nullptr;
-        if (linear_a && !bit(exact_slots, b)) {
-          // i, a, b linear: only tetrahedra with an exact fourth vertex c (in rows a and b).
-          const std::uint64_t* rb = &t.adj[b * W];
-          bool any = false;
-          for (std::size_t w = b >> 6; w < W && !any; ++w)
-            any = (pr.ra[w] & rb[w] & exact_slots[w]) != 0;
-          if (!any) continue;
-          pr.only = exact_slots;
-        }
-        pr.b = b;
-        pr.number = kStencil ? word_rank + static_cast<std::size_t>(std::popcount(
-                                               stencil_row & ((std::uint64_t{1} << (b & 63)) - 1)))
-                             : 0;
-        const bool own_b = bit(own, b), bond_ab = bit(pr.ia, b);
-        pr.edges_ab = own_a && own_b && bond_ab;
-        pr.act_i = ctx.all_edges ? pr.edges_ab : own_a && own_b;
-        pr.act_j = ctx.all_edges ? pr.edges_ab : own_a && bond_ab;
-        pr.act_k = ctx.all_edges ? pr.edges_ab : own_b && bond_ab;
-        pr.pb[0] = t.rx[b];
-        pr.pb[1] = t.ry[b];
-        pr.pb[2] = t.rz[b];
-        pr.crossed = false;  // P x Q and p x q when a set evaluated here needs them
-        if constexpr (Model::kTriangles) {
-          if (ctx.pairs && pr.only == nullptr) {
-            pr.cross(t);
-            if constexpr (kConservative) {
-              triangle_term_conservative<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
-            } else {
-              triangle_term<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
-            }
+      pr.b = b;
+      pr.number = number;  // the stencil's tables
+      const bool own_b = bit(own, b), bond_ab = bit(pr.ia, b);
+      pr.edges_ab = own_a && own_b && bond_ab;
+      pr.act_i = ctx.all_edges ? pr.edges_ab : own_a && own_b;
+      pr.act_j = ctx.all_edges ? pr.edges_ab : own_a && bond_ab;
+      pr.act_k = ctx.all_edges ? pr.edges_ab : own_b && bond_ab;
+      pr.pb[0] = t.rx[b];
+      pr.pb[1] = t.ry[b];
+      pr.pb[2] = t.rz[b];
+      pr.crossed = false;  // P x Q and p x q when a set evaluated here needs them
+      if constexpr (Model::kTriangles) {
+        if (ctx.pairs && pr.only == nullptr) {
+          pr.cross(t);
+          if constexpr (kConservative) {
+            triangle_term_conservative<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
+          } else {
+            triangle_term<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr);
           }
         }
-        if constexpr (Model::kTetrahedra) {
-          if (ctx.triples) {
-            if constexpr (kConservative) {
-              tetrahedron_loop_conservative<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr,
-                                                                                group);
-            } else {
-              tetrahedron_loop<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr, group);
-            }
+      }
+      if constexpr (Model::kTetrahedra) {
+        if (ctx.triples) {
+          if constexpr (kConservative) {
+            tetrahedron_loop_conservative<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr,
+                                                                              group);
+          } else {
+            tetrahedron_loop<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, pr, group);
+          }
 #if defined(CKPD_BATCHED_TETRAHEDRA)
-            if (group.pending) {
-              group.pending = false;
-              group.push(pr.b, t);
-              if (group.n == batch::kG) evaluate_group(a);
-            }
-#endif
+          if (group.pending) {
+            group.pending = false;
+            group.push(pr.b, t);
+            if (group.n == batch::kG) evaluate_group(a);
           }
+#endif
         }
       }
-    }
+    });
 #if defined(CKPD_BATCHED_TETRAHEDRA)
     if (group.n > 0) evaluate_group(a);
 #endif
@@ -134,41 +120,21 @@ inline void intact_pair_loop(const ContextBase& ctx, SymmetricKernelThread& t, s
   for (std::size_t n = 0; n < count; ++n) {
     const std::size_t a = list[n];
     const std::uint64_t* ra = &t.adj[a * W];
-    std::size_t pair_rank = kStencil ? st->pair_base[a] : 0;
-    for (std::size_t wb = a >> 6; wb < W; ++wb) {
-      std::uint64_t stencil_row = 0;
-      std::size_t word_rank = 0;
-      if constexpr (kStencil) {
-        stencil_row = st->adjacency[a * W + wb];
-        word_rank = pair_rank;
-        pair_rank += static_cast<std::size_t>(std::popcount(stencil_row));
+    for_each_pair_of<kStencil>(st, a, ra, W, [&](std::size_t b, std::size_t number) {
+      // The pair's candidates: the stencil's triple row on the present slots, or rows a and b.
+      const std::uint64_t* first = kStencil ? &st->triple_row[number * W] : ra;
+      const std::uint64_t* second = kStencil ? present : &t.adj[b * W];
+      std::uint64_t any = 0;
+      std::uint64_t* lane = words + static_cast<std::size_t>(group.n);
+      for (std::size_t wc = b >> 6; wc < W; ++wc) {
+        const std::uint64_t cand = first[wc] & second[wc];
+        lane[wc * batch::kG] = cand;
+        any |= cand;
       }
-      for (std::uint64_t bbits = ra[wb]; bbits; bbits &= bbits - 1) {
-        const std::size_t b = wb * 64 + static_cast<std::size_t>(std::countr_zero(bbits));
-        const std::uint64_t* first;  // the pair's candidates: second & rows (general) or present
-        const std::uint64_t* second;
-        if constexpr (kStencil) {
-          const std::size_t number =
-              word_rank + static_cast<std::size_t>(
-                              std::popcount(stencil_row & ((std::uint64_t{1} << (b & 63)) - 1)));
-          first = &st->triple_row[number * W];
-          second = present;
-        } else {
-          first = ra;
-          second = &t.adj[b * W];
-        }
-        std::uint64_t any = 0;
-        std::uint64_t* lane = words + static_cast<std::size_t>(group.n);
-        for (std::size_t wc = b >> 6; wc < W; ++wc) {
-          const std::uint64_t cand = first[wc] & second[wc];
-          lane[wc * batch::kG] = cand;
-          any |= cand;
-        }
-        if (!any) continue;
-        group.push(b, t);
-        if (group.n == batch::kG) evaluate_group(a);
-      }
-    }
+      if (!any) return;
+      group.push(b, t);
+      if (group.n == batch::kG) evaluate_group(a);
+    });
     if (group.n > 0) evaluate_group(a);
   }
 }

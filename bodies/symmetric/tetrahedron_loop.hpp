@@ -50,9 +50,9 @@ inline void separate_tetrahedron(const Context<Model>& ctx, SymmetricKernelThrea
 }
 
 template <class Model, bool kEnergy, bool kPenalty, bool kStencil>
-CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop(const Context<Model>& ctx,
-                                                          SymmetricKernelThread& t, Centre& centre,
-                                                          Pair& pr, batch::PairGroup& group) {
+CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop(
+    const Context<Model>& ctx, SymmetricKernelThread& t, Centre& centre, Pair& pr,
+    [[maybe_unused]] batch::PairGroup& group) {
   const Model& model = ctx.model;
   const Body& body = *ctx.body;
   const LatticeStencil* st = ctx.stencil;

@@ -108,24 +108,14 @@ inline const FullPairs& full_pairs(const Context<Model>& ctx, SymmetricKernelThr
   full.act.clear();
   const std::size_t W = st->words;
   for (std::size_t a = 0; a < st->slots; ++a) {
-    std::size_t pair_rank = st->pair_base[a];
-    for (std::size_t wb = a >> 6; wb < W; ++wb) {
-      const std::uint64_t stencil_row = st->adjacency[a * W + wb];
-      const std::size_t word_rank = pair_rank;
-      pair_rank += static_cast<std::size_t>(std::popcount(stencil_row));
-      for (std::uint64_t bbits = stencil_row; bbits; bbits &= bbits - 1) {
-        const std::size_t b = wb * 64 + static_cast<std::size_t>(std::countr_zero(bbits));
-        const std::size_t number =
-            word_rank + static_cast<std::size_t>(
-                            std::popcount(stencil_row & ((std::uint64_t{1} << (b & 63)) - 1)));
-        if (st->inv_area[number] == 0) continue;
-        full.a.push_back(static_cast<std::uint32_t>(a));
-        full.b.push_back(static_cast<std::uint32_t>(b));
-        full.inv.push_back(st->inv_area[number]);
-        full.z.push_back(st->area_z[number]);
-        full.act.push_back(7);
-      }
-    }
+    for_each_pair_of<true>(st, a, &st->adjacency[a * W], W, [&](std::size_t b, std::size_t number) {
+      if (st->inv_area[number] == 0) return;
+      full.a.push_back(static_cast<std::uint32_t>(a));
+      full.b.push_back(static_cast<std::uint32_t>(b));
+      full.inv.push_back(st->inv_area[number]);
+      full.z.push_back(st->area_z[number]);
+      full.act.push_back(7);
+    });
   }
   full.count = full.a.size();
   const std::size_t padded = (full.count + 7) / 8 * 8;
@@ -447,56 +437,43 @@ inline void triangle_batch_point(const Context<Model>& ctx, SymmetricKernelThrea
     const std::size_t a = list[n];
     const std::uint64_t* ra = &t.adj[a * W];
     const std::uint64_t* ia = t.intact_is_adjacency ? ra : &t.adj_intact[a * W];
-    std::size_t pair_rank = kStencil ? st->pair_base[a] : 0;
     const unsigned own_a = bit(own, a) ? 1u : 0u;
-    for (std::size_t wb = a >> 6; wb < W; ++wb) {
-      std::uint64_t stencil_row = 0;
-      std::size_t word_rank = 0;
-      if constexpr (kStencil) {
-        stencil_row = st->adjacency[a * W + wb];
-        word_rank = pair_rank;
-        pair_rank += static_cast<std::size_t>(std::popcount(stencil_row));
-      }
-      for (std::uint64_t bbits = ra[wb]; bbits; bbits &= bbits - 1) {
-        const std::size_t b = wb * 64 + static_cast<std::size_t>(std::countr_zero(bbits));
-        const unsigned own_b = bit(own, b) ? 1u : 0u, bond_ab = bit(ia, b) ? 1u : 0u;
-        unsigned mask = (own_a & own_b) | (own_a & bond_ab) << 1 | (own_b & bond_ab) << 2;
-        if (ctx.all_edges) mask = mask == 7 ? 7 : 0;
-        if (mask == 0) continue;
-        if constexpr (kStencil) {
-          const std::size_t number =
-              word_rank + static_cast<std::size_t>(
-                              std::popcount(stencil_row & ((std::uint64_t{1} << (b & 63)) - 1)));
-          const double inv = st->inv_area[number];
-          if (inv == 0) continue;  // collinear: degenerate
-          row[kRef * C + np] = inv;
-          row[kRefZ * C + np] = st->area_z[number];
-        } else {
-          row[kRef * C + np] = Rx[a] * Ry[b] - Ry[a] * Rx[b];
-        }
-        row[kPax * C + np] = rx[a];
-        row[kPay * C + np] = ry[a];
-        row[kPbx * C + np] = rx[b];
-        row[kPby * C + np] = ry[b];
-        row[kK2a * C + np] = k2[a];
-        row[kK2b * C + np] = k2[b];
-        if constexpr (kEnergy) {
-          row[kE2a * C + np] = e2[a];
-          row[kE2b * C + np] = e2[b];
-        }
-        if constexpr (kConservative) {
-          row[kVa * C + np] = vol[a];
-          row[kVb * C + np] = vol[b];
-        }
-        act[np] = mask;
-        slot_a[np] = static_cast<std::uint32_t>(a);
-        slot_b[np] = static_cast<std::uint32_t>(b);
-        if (++np == C) {
-          evaluate_chunk(np);
-          np = 0;
-        }
-      }
-    }
+    for_each_pair_of<kStencil>(
+        st, a, ra, W, [&](std::size_t b, [[maybe_unused]] std::size_t number) {
+          const unsigned own_b = bit(own, b) ? 1u : 0u, bond_ab = bit(ia, b) ? 1u : 0u;
+          unsigned mask = (own_a & own_b) | (own_a & bond_ab) << 1 | (own_b & bond_ab) << 2;
+          if (ctx.all_edges) mask = mask == 7 ? 7 : 0;
+          if (mask == 0) return;
+          if constexpr (kStencil) {
+            const double inv = st->inv_area[number];
+            if (inv == 0) return;  // collinear: degenerate
+            row[kRef * C + np] = inv;
+            row[kRefZ * C + np] = st->area_z[number];
+          } else {
+            row[kRef * C + np] = Rx[a] * Ry[b] - Ry[a] * Rx[b];
+          }
+          row[kPax * C + np] = rx[a];
+          row[kPay * C + np] = ry[a];
+          row[kPbx * C + np] = rx[b];
+          row[kPby * C + np] = ry[b];
+          row[kK2a * C + np] = k2[a];
+          row[kK2b * C + np] = k2[b];
+          if constexpr (kEnergy) {
+            row[kE2a * C + np] = e2[a];
+            row[kE2b * C + np] = e2[b];
+          }
+          if constexpr (kConservative) {
+            row[kVa * C + np] = vol[a];
+            row[kVb * C + np] = vol[b];
+          }
+          act[np] = mask;
+          slot_a[np] = static_cast<std::uint32_t>(a);
+          slot_b[np] = static_cast<std::uint32_t>(b);
+          if (++np == C) {
+            evaluate_chunk(np);
+            np = 0;
+          }
+        });
   }
   if (np > 0) evaluate_chunk(np);
 }
