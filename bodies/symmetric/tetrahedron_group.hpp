@@ -1,12 +1,12 @@
 #pragma once
 // Grouped tetrahedra (docs/PERFORMANCE.md, "Tetrahedra in groups of pairs"): the tetrahedra
-// {i, a, b, c} active for all four vertices, evaluated for kW pairs (a, b_0..b_3) of one slot a
-// at once, one pair per lane. The loop runs over the slots c that hold a tetrahedron of any
-// lane; c's offsets are broadcast, each lane has its pair's p x q, P x Q and sums. Against
-// blocks of 4 slots c of one pair (the previous scheme: 2.5 live lanes of 4, 3.2 blocks per
-// pair and a mispredicted exit from each pair's short loop), a group holds 2.7 live lanes of 4
-// and runs one loop per four pairs; the pairs' last lines (the forces on i, a and b from S and
-// F) are lane-wise, with no sums across lanes.
+// {i, a, b, c} active for all four vertices, evaluated for up to kG pairs (a, b_l) of one slot a
+// at once (8 with AVX-512, 4 with AVX2), one pair per lane. The loop runs over the slots c that
+// hold a tetrahedron of any lane; c's offsets are broadcast, each lane has its pair's p x q,
+// P x Q and sums. Against blocks of 4 slots c of one pair (the previous scheme: 2.5 live lanes
+// of 4, 3.2 blocks per pair and a mispredicted exit from each pair's short loop), a group of 8
+// holds 4.6 live lanes and runs one loop per eight pairs (m = 3.015, counted); the pairs' last
+// lines (the forces on i, a and b from S and F) are lane-wise, with no sums across lanes.
 //
 // Every slot's (and the centre's) share is accumulated without its weight, one lane per pair,
 // in t.lanes (kLaneRow doubles: x, y, z and energy lanes for the centre, then for each slot), and
@@ -15,7 +15,8 @@
 // e3[s] times its energy lanes. Per tetrahedron the lanes compute what the scalar loop computes
 // on the general path, operation for operation (v = p x q . r, the signed volume P x Q . R, the
 // ratio v / V, the model's coefficient): on the stencil path too, whose tables the group does
-// not need. Only the order of the sums over the sets differs.
+// not need. Only the order of the sums over the sets differs. The pairs come from the pair loop
+// (process_point.hpp) or, for a centre with an intact family, from intact_pair_loop.
 #include "bodies/symmetric/tetrahedron_batch.hpp"
 
 namespace ckpd::symmetric {
