@@ -108,7 +108,9 @@ inline void pair_loop(const Context<Model>& ctx, SymmetricKernelThread& t, Centr
 // neighbours, none of i's own), evaluated with the groups alone: every tetrahedron is active for
 // all four vertices, so a pair's candidates are its group words (the stencil's triple row on
 // the present slots, or rows a and b), with no per-vertex masks, flags or scalar sets. Only where
-// nothing else is evaluated per pair: no triangles and no far-field masking.
+// nothing else is evaluated per pair: no triangles. The far field's masking of a linear centre
+// as in pair_loop: a linear slot a with no exact slot in its row is left out, and a pair of
+// linear slots keeps only the sets whose fourth vertex is exact.
 template <bool kStencil, class EvaluateGroup>
 inline void intact_pair_loop(const ContextBase& ctx, SymmetricKernelThread& t, std::size_t count,
                              batch::PairGroup& group, EvaluateGroup&& evaluate_group) {
@@ -117,17 +119,25 @@ inline void intact_pair_loop(const ContextBase& ctx, SymmetricKernelThread& t, s
   const std::size_t W = t.words;
   const std::uint64_t* present = t.present.data();
   std::uint64_t* words = batch::PairGroup::words(t);
+  const std::uint64_t* exact_slots = t.linear_centre ? t.exact_slots.data() : nullptr;
   for (std::size_t n = 0; n < count; ++n) {
     const std::size_t a = list[n];
     const std::uint64_t* ra = &t.adj[a * W];
+    const bool linear_a = exact_slots != nullptr && !bit(exact_slots, a);
+    if (linear_a) {
+      std::uint64_t meets = 0;
+      for (std::size_t w = a >> 6; w < W; ++w) meets |= ra[w] & exact_slots[w];
+      if (meets == 0) continue;
+    }
     for_each_pair_of<kStencil>(st, a, ra, W, [&](std::size_t b, std::size_t number) {
       // The pair's candidates: the stencil's triple row on the present slots, or rows a and b.
       const std::uint64_t* first = kStencil ? &st->triple_row[number * W] : ra;
       const std::uint64_t* second = kStencil ? present : &t.adj[b * W];
+      const bool only_exact = linear_a && !bit(exact_slots, b);
       std::uint64_t any = 0;
       std::uint64_t* lane = words + static_cast<std::size_t>(group.n);
       for (std::size_t wc = b >> 6; wc < W; ++wc) {
-        const std::uint64_t cand = first[wc] & second[wc];
+        const std::uint64_t cand = first[wc] & second[wc] & (only_exact ? exact_slots[wc] : ~0ull);
         lane[wc * batch::kG] = cand;
         any |= cand;
       }
@@ -184,8 +194,7 @@ void process_point(const Context<Model>& ctx, std::size_t i, SymmetricKernelThre
             });
       };
       if constexpr (batched_tetrahedra<Model, kStencil>()) {
-        if (!(Model::kTriangles && ctx.pairs) && ctx.triples && !t.linear_centre &&
-            intact_centre(t)) {
+        if (!(Model::kTriangles && ctx.pairs) && ctx.triples && intact_centre(t)) {
           intact_pair_loop<kStencil>(ctx, t, count, group, evaluate_group);
         } else {
           pair_loop<Model, kEnergy, kPenalty, kStencil>(ctx, t, centre, count, rows, group,
