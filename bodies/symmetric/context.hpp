@@ -70,12 +70,14 @@ struct SymmetricKernelThread {
   std::size_t tri_centres = 0;
   unsigned tri_residues = 0;
 
-  // Grouped tetrahedra (tetrahedron_group.hpp): 4 x (up to 8) lanes of x, y, z and energy for
-  // the centre, then for each slot, still to be weighed; zero between centres (flush_lanes).
+  // Grouped tetrahedra (tetrahedron_group.hpp), at most kGroupLanes pairs per group: the lanes of
+  // x, y, z and energy for the centre, then for each slot, still to be weighed; zero between
+  // centres (flush_lanes).
+  static constexpr std::size_t kGroupLanes = 8;
   std::vector<double> lanes;
   bool lanes_used = false;
-  // The group's candidate words and ill-conditioned sets (tetrahedron_group.hpp), up to 8 lanes
-  // per word; zero between groups.
+  // The group's candidate words and ill-conditioned sets (tetrahedron_group.hpp), a word per
+  // lane; zero between groups.
   std::vector<std::uint64_t> group_full, group_ill;
 
   SymmetricKernelStats stats;
@@ -93,15 +95,15 @@ struct SymmetricKernelThread {
       for (auto* v : {&Rx, &Ry, &Rz, &rx, &ry, &rz, &k2, &e2, &k3, &e3, &vol, &inv_vol, &x3, &fx,
                       &fy, &fz, &w})
         v->resize(slots);
-      lanes.resize(32 * (slots + 1));  // new lanes are zero, the others are between centres
+      lanes.resize(4 * kGroupLanes * (slots + 1));  // new lanes are zero, old ones too
     }
     if (up.size() < slots) {
       up.resize(slots);
       list.resize(slots);
     }
     if (own.size() < row_words) {
-      group_full.resize(8 * row_words);  // new words are zero, the others are between groups
-      group_ill.resize(8 * row_words);
+      group_full.resize(kGroupLanes * row_words);  // new words are zero, old ones too
+      group_ill.resize(kGroupLanes * row_words);
       own.resize(row_words);
       present.resize(row_words);
       exact_slots.resize(row_words);

@@ -26,6 +26,8 @@ namespace ckpd::symmetric {
 namespace batch {
 
 inline constexpr int kG = kTetrahedronGroup;  // pairs per group
+static_assert(static_cast<std::size_t>(kG) <= SymmetricKernelThread::kGroupLanes,
+              "the thread scratch holds the lanes of at most kGroupLanes pairs");
 using gd = Vec<kG>::d;
 using gi = Vec<kG>::i;
 // Per slot (and the centre) in t.lanes: x, y, z and energy lanes.
@@ -217,6 +219,8 @@ template <bool kEnergy>
 inline void flush_lanes(SymmetricKernelThread& t, Centre& centre, std::size_t count,
                         const double* weight, double weight_i, double energy_weight_i) {
   if (!t.lanes_used) return;
+  // Without energy the energy lanes were not written: they are still zero.
+  constexpr std::size_t kWrittenRows = kEnergy ? 4 : 3;
   const std::uint32_t* list = t.list.data();
   double* gcen = t.lanes.data();
   for (std::size_t n = 0; n < count; ++n) {
@@ -226,13 +230,13 @@ inline void flush_lanes(SymmetricKernelThread& t, Centre& centre, std::size_t co
     t.fy[s] -= weight[s] * sum(loadv<gd>(g + kG));
     t.fz[s] -= weight[s] * sum(loadv<gd>(g + 2 * kG));
     if constexpr (kEnergy) t.w[s] += t.e3[s] * sum(loadv<gd>(g + 3 * kG));
-    std::memset(g, 0, kLaneRow * sizeof(double));
+    std::memset(g, 0, kWrittenRows * kG * sizeof(double));
   }
   centre.fx += weight_i * sum(loadv<gd>(gcen));
   centre.fy += weight_i * sum(loadv<gd>(gcen + kG));
   centre.fz += weight_i * sum(loadv<gd>(gcen + 2 * kG));
   if constexpr (kEnergy) centre.w += energy_weight_i * sum(loadv<gd>(gcen + 3 * kG));
-  std::memset(gcen, 0, kLaneRow * sizeof(double));
+  std::memset(gcen, 0, kWrittenRows * kG * sizeof(double));
   t.lanes_used = false;
 }
 
