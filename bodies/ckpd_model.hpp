@@ -112,6 +112,9 @@ struct CkpdLaw {
   static constexpr const char* kName = "ckpd";
   // The families this model can have (each is built only when its constant is non-zero).
   static constexpr bool kTriangles = true, kTetrahedra = true;
+  // Its tetrahedron linearisation is that of the volume |v| with unit constant (below): the
+  // census takes its vector loop (census.hpp, add_volume_tetrahedron_bounds).
+  static constexpr bool kVolumeTetrahedra = true;
 
   double c1 = 0, c2 = 0, c3 = 0;
   // Inversion penalty factors in units of C: 2 F |C| / C (0 when off or when C is 0).

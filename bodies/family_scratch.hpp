@@ -91,6 +91,43 @@ class FamilyScratch {
     });
   }
 
+  // f(a, b, thirds, n) for every unordered adjacent pair a < b, with thirds[0..n) every c > b
+  // adjacent to both (the triples of for_each_triple, a pair's at once for a vector loop over
+  // c). thirds needs room for size() entries.
+  template <class PairFn>
+  void for_each_pair_with_thirds(std::uint32_t* thirds, PairFn&& f) const {
+    for_each_pair([&](std::size_t a, std::size_t b) {
+      const std::uint64_t* ra = &adjacency[a * words_];
+      const std::uint64_t* rb = &adjacency[b * words_];
+      std::size_t n = 0;
+      for (std::size_t w = (b + 1) / 64; w < words_; ++w) {
+        std::uint64_t bits = ra[w] & rb[w] & above(b, w);
+        while (bits) {
+          thirds[n++] = static_cast<std::uint32_t>(w * 64 + std::countr_zero(bits));
+          bits &= bits - 1;
+        }
+      }
+      f(a, b, static_cast<const std::uint32_t*>(thirds), n);
+    });
+  }
+
+  // Marks third[d] = 1 for every d > b adjacent to both a and b (the triples (a, b, d) of
+  // for_each_triple), 0 for the other d > b; whether there is any.
+  template <class Flag>
+  bool pair_thirds(std::size_t a, std::size_t b, Flag* third) const {
+    const std::uint64_t* ra = &adjacency[a * words_];
+    const std::uint64_t* rb = &adjacency[b * words_];
+    std::uint64_t any = 0;
+    for (std::size_t w = (b + 1) / 64; w < words_; ++w) {
+      const std::uint64_t bits = ra[w] & rb[w] & above(b, w);
+      any |= bits;
+      const std::size_t first = std::max(w * 64, b + 1), last = std::min(w * 64 + 64, size_);
+      for (std::size_t d = first; d < last; ++d)
+        third[d] = static_cast<Flag>((bits >> (d % 64)) & 1);
+    }
+    return any != 0;
+  }
+
   std::vector<Vec3> ref, cur;
   std::vector<double> length;
   std::vector<std::uint32_t> index;  // each slot's point

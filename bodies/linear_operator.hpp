@@ -21,6 +21,7 @@
 
 #include "bodies/body.hpp"
 #include "bodies/family_scratch.hpp"
+#include "bodies/linear_operator_tetrahedra.hpp"
 #include "bodies/set_law.hpp"
 
 namespace ckpd {
@@ -158,11 +159,13 @@ inline void apply_local(LinearOperator& op, std::uint32_t centre, const FamilySc
 // (s holds c's family, loaded as the kernels load it), bonds first, then triangles and
 // tetrahedra in the scratch's order. scale[v] is vertex v's weight: under energy_consistent
 // V^c w / ((n + 1) V^d), under own_family the centre's force weight w (only its row is used).
+// Without `tetrahedra`, bonds and triangles only (the caller takes the tetrahedra in the vector
+// loop, linear_operator_tetrahedra.hpp).
 template <class Model, class Visit>
 inline void for_each_set(const Model& model, const Body& body, std::size_t c,
-                         const FamilyScratch& s, Visit&& visit) {
+                         const FamilyScratch& s, Visit&& visit, bool tetrahedra = true) {
   const bool pairs = Model::kTriangles && model.has_triangles();
-  const bool triples = Model::kTetrahedra && model.has_tetrahedra();
+  const bool triples = Model::kTetrahedra && model.has_tetrahedra() && tetrahedra;
   const bool energy_consistent = body.force_form == ForceForm::energy_consistent;
   const double degenerate = body.degenerate_fraction;
   const std::vector<double>& V = body.volume;
@@ -230,6 +233,11 @@ void assemble_linear_operator_of(const Model& model, const Body& body, LinearOpe
   // By the body's key, as the reference kernel decides (the table follows it in a case).
   const bool energy_consistent = body.force_form == ForceForm::energy_consistent;
   const bool only_centre = !energy_consistent;
+  // The tetrahedra of a volume-measure model in the vector loop (linear_operator_tetrahedra.hpp).
+  constexpr bool kVolumeTetrahedra = requires {
+    requires Model::kVolumeTetrahedra;
+  };
+  const bool vector_tetrahedra = kVolumeTetrahedra && Model::kTetrahedra && model.has_tetrahedra();
   std::exception_ptr error;
   std::atomic<bool> failed{false};
 #pragma omp parallel
@@ -237,6 +245,31 @@ void assemble_linear_operator_of(const Model& model, const Body& body, LinearOpe
     FamilyScratch s;
     std::vector<std::size_t> table;
     std::vector<Eigen::Matrix3d> local;  // zero between centres (apply_local zeroes it)
+    linear_operator_detail::VolumeTetrahedronBlocks tetrahedra;
+    std::vector<double> row_volume;
+    // Centre c's tetrahedra into `local`, -c_t / (V row_v) G_v G_w^T: c_t = w3 (own_family,
+    // rows of 1) or V^c w3 / 4 (energy_consistent, rows of V^v), as for_each_set's scales.
+    auto add_tetrahedra = [&](std::ptrdiff_t c, std::size_t m) {
+      if constexpr (Model::kTetrahedra) {
+        const double w3 = model.tetrahedron_force_weight(body.dv3[static_cast<std::size_t>(c)]);
+        const double weight =
+            energy_consistent ? body.volume[static_cast<std::size_t>(c)] * w3 / 4 : w3;
+        tetrahedra.prepare(m);
+        if (only_centre)
+          linear_operator_detail::accumulate_volume_tetrahedra<true>(s, body.degenerate_fraction,
+                                                                     weight, tetrahedra);
+        else
+          linear_operator_detail::accumulate_volume_tetrahedra<false>(s, body.degenerate_fraction,
+                                                                      weight, tetrahedra);
+        row_volume.assign(m, 1.0);
+        if (energy_consistent) {
+          row_volume[0] = body.volume[static_cast<std::size_t>(c)];
+          for (std::size_t a = 0; a + 1 < m; ++a) row_volume[1 + a] = body.volume[s.index[a]];
+        }
+        linear_operator_detail::add_volume_tetrahedra_to_local(
+            local.data(), table, row_volume.data(), only_centre, tetrahedra);
+      }
+    };
     // Centre c's sets into `local`; false once some centre has thrown (the error is kept).
     auto accumulate = [&](std::ptrdiff_t c) {
       if (failed.load(std::memory_order_relaxed)) return false;
@@ -255,7 +288,9 @@ void assemble_linear_operator_of(const Model& model, const Body& body, LinearOpe
               (void)vertex;
               linear_operator_detail::add_set_local(local.data(), lin, slot, table, m, scale,
                                                     only_centre);
-            });
+            },
+            !vector_tetrahedra);
+        if (vector_tetrahedra) add_tetrahedra(c, m);
         return true;
       } catch (...) {
 #pragma omp critical(ckpd_linear_operator_error)
