@@ -136,6 +136,44 @@ inline void add_set_local(Eigen::Matrix3d* local, const SetLinearisation<kVertic
   }
 }
 
+// Adds -S(v, w) / row[v] to the centre's local blocks (local[v * m + w])
+// for every row v (row 0 only with only_centre) and zeroes the sums. A non-zero block between
+// slots that are not in each other's families is a logic error, as in add_set_local.
+inline void add_volume_tetrahedra_to_local(Eigen::Matrix3d* local,
+                                           const std::vector<std::size_t>& table, const double* row,
+                                           bool only_centre, VolumeTetrahedronBlocks& t) {
+  const std::size_t m = t.m;
+  auto check = [&](std::size_t v, std::size_t w, const Eigen::Matrix3d& block) {
+    if (table[v * m + w] == kNoColumn && !block.isZero(0))
+      throw std::logic_error("linear operator: a set's vertices are not in each other's families");
+  };
+  for (std::size_t v = 0; v < (only_centre ? 1 : m); ++v) {
+    const double f = -1.0 / row[v];
+    Eigen::Matrix3d diagonal;
+    diagonal << t.diagonal_at(0, v), t.diagonal_at(1, v), t.diagonal_at(2, v), t.diagonal_at(1, v),
+        t.diagonal_at(3, v), t.diagonal_at(4, v), t.diagonal_at(2, v), t.diagonal_at(4, v),
+        t.diagonal_at(5, v);
+    local[v * m + v] += f * diagonal;
+    for (std::size_t w = v + 1; w < m; ++w) {
+      Eigen::Matrix3d block;
+      for (int k = 0; k < 9; ++k) block(k / 3, k % 3) = t.upper_at(k, v, w);
+      if (block.isZero(0)) continue;
+      check(v, w, block);
+      local[v * m + w] += f * block;
+      if (!only_centre) {
+        check(w, v, block);
+        local[w * m + v] += (-1.0 / row[w]) * block.transpose();
+      }
+    }
+  }
+  // Zero what the centre wrote: under only_centre row 0 of each plane (its last lanes reach at
+  // most kLanes past the row, into zeros), else every plane whole.
+  const std::size_t rows = only_centre ? m + VolumeTetrahedronBlocks::kLanes : m * m;
+  for (std::size_t k = 0; k < 9; ++k)
+    std::fill_n(t.upper.begin() + static_cast<std::ptrdiff_t>(k * m * m), rows, 0.0);
+  std::fill_n(t.diagonal.begin(), 6 * m, 0.0);
+}
+
 // Adds one centre's local blocks to the global rows of its points that are assembled (only the
 // centre's row with `only_centre`) and zeroes them again (every block a set wrote has a column:
 // add_set_local checked it).

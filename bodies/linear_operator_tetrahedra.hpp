@@ -15,7 +15,6 @@
 // for v <= w only; the rows' -1 / row_v are applied once per centre when S is added to the
 // local blocks. Of the blocks with v < w among the slots 0 < a < b < d, those in column d are
 // contiguous over d (one vector store each); those among {0, a, b} are the pair's sums.
-#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -242,41 +241,6 @@ inline void accumulate_volume_tetrahedra(const FamilyScratch& s, double degenera
       for (std::size_t k = 0; k < 9; ++k) upper[k * plane + A * m + B] += sums[30 + k];
     }
   });
-}
-
-// Adds -S(v, w) / row[v] to the centre's local blocks (local[v * m + w], linear_operator.hpp)
-// for every row v (row 0 only with only_centre) and zeroes the sums. A non-zero block between
-// slots that are not in each other's families is a logic error, as in add_set_local.
-inline void add_volume_tetrahedra_to_local(Eigen::Matrix3d* local,
-                                           const std::vector<std::size_t>& table, const double* row,
-                                           bool only_centre, VolumeTetrahedronBlocks& t) {
-  const std::size_t m = t.m;
-  constexpr std::size_t kNoColumnHere = ~std::size_t{0};
-  auto check = [&](std::size_t v, std::size_t w, const Eigen::Matrix3d& block) {
-    if (table[v * m + w] == kNoColumnHere && !block.isZero(0))
-      throw std::logic_error("linear operator: a set's vertices are not in each other's families");
-  };
-  for (std::size_t v = 0; v < (only_centre ? 1 : m); ++v) {
-    const double f = -1.0 / row[v];
-    Eigen::Matrix3d diagonal;
-    diagonal << t.diagonal_at(0, v), t.diagonal_at(1, v), t.diagonal_at(2, v), t.diagonal_at(1, v),
-        t.diagonal_at(3, v), t.diagonal_at(4, v), t.diagonal_at(2, v), t.diagonal_at(4, v),
-        t.diagonal_at(5, v);
-    local[v * m + v] += f * diagonal;
-    for (std::size_t w = v + 1; w < m; ++w) {
-      Eigen::Matrix3d block;
-      for (int k = 0; k < 9; ++k) block(k / 3, k % 3) = t.upper_at(k, v, w);
-      if (block.isZero(0)) continue;
-      check(v, w, block);
-      local[v * m + w] += f * block;
-      if (!only_centre) {
-        check(w, v, block);
-        local[w * m + v] += (-1.0 / row[w]) * block.transpose();
-      }
-    }
-  }
-  std::fill(t.upper.begin(), t.upper.begin() + static_cast<std::ptrdiff_t>(9 * m * m), 0.0);
-  std::fill(t.diagonal.begin(), t.diagonal.begin() + static_cast<std::ptrdiff_t>(6 * m), 0.0);
 }
 
 }  // namespace ckpd::linear_operator_detail
