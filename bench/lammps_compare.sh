@@ -134,4 +134,6 @@ for k, (a, b) in enumerate(zip(lmp, ck)):
     print(f"| {100 * k} | {a:.4f} | {b:.4f} |")
 PYEOF
 grep -E "^ *1000 " "$s/screen.txt" > /dev/null || true
-tail -1 "$s/ckpd/history.csv" | awk -F, '{print "ckpd broken bonds at the end: " $9}'
+# The column by its header name: history.csv gains columns as features land.
+awk -F, 'NR == 1 { for (k = 1; k <= NF; k++) if ($k == "broken_bonds") c = k }
+  END { print "ckpd broken bonds at the end: " (c ? $c : "no broken_bonds column") }' "$s/ckpd/history.csv"
