@@ -23,9 +23,10 @@ struct Body;
 
 // The stencil's tables grow like m^9 (its triples); above this many bytes the body keeps the
 // general path, which stores nothing per set. Measured (docs/PERFORMANCE.md): tables of 0.25 to
-// 1.6 MB gain 1.05-1.34x; the seed's two-layer disc at m = 8 (about 9 MB) gained nothing
-// (25.6 against 25.3 s per step): its table no longer stays in cache.
-inline constexpr std::size_t kStencilMemoryLimit = std::size_t{8} << 20;
+// 1.6 MB gain 1.05-1.34x; the seed's two-layer disc at m = 8 (10.2 MB) gained nothing with
+// the scalar kernel (25.6 against 25.3 s per step) but 1.14-1.19x with the grouped tetrahedra,
+// which read a pair's triple row and no per-triple table (6.9 against 7.8-8.2 s per step).
+inline constexpr std::size_t kStencilMemoryLimit = std::size_t{32} << 20;
 
 struct LatticeStencil {
   double spacing = 0;
