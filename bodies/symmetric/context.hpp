@@ -309,21 +309,17 @@ inline void mark_exact_slots(const ContextBase& ctx, SymmetricKernelThread& t, s
 
 // One word of a slot row from CSR entries [from, to) of a point's row: bit s - base of the slots
 // s held by the entries' points, for base <= s < base + 64 (slot_of: a point's slot + 1, zero
-// for a point that is no present slot; the unsigned difference wraps for those below), and with
-// `intact` only the entries whose bond is intact. A gather per vector of entries (64-bit
-// slot_of: GCC 12 vectorises the gather and the variable shift only with one element width).
-template <bool kIntact>
+// for a point that is no present slot; the unsigned difference wraps for those below). A
+// gather per vector of entries (64-bit slot_of: GCC 12 vectorises the gather and the variable
+// shift only with one element width).
 inline std::uint64_t slot_word(const std::uint32_t* __restrict nb,
-                               const std::uint64_t* __restrict slot_of,
-                               const std::uint8_t* __restrict intact, std::size_t from,
+                               const std::uint64_t* __restrict slot_of, std::size_t from,
                                std::size_t to, std::uint64_t base) {
   std::uint64_t bits = 0;
 #pragma omp simd reduction(| : bits)
   for (std::size_t k = from; k < to; ++k) {
     const std::uint64_t s = slot_of[nb[k]] - 1 - base;
-    std::uint64_t in = s < 64;
-    if constexpr (kIntact) in &= intact[k] != 0;
-    bits |= in << (s & 63);
+    bits |= std::uint64_t{s < 64} << (s & 63);
   }
   return bits;
 }
@@ -355,6 +351,7 @@ inline void merge_csr_rows(const ContextBase& ctx, SymmetricKernelThread& t,
     word_last[a >> 6] = j;
   }
   const std::uint8_t* intact = ctx.intact;
+  const std::uint32_t last = t.up[t.list[count - 1]];
   for (std::size_t n = 0; n < count; ++n) {
     const std::size_t a = t.list[n];
     std::uint64_t* row = adjacency != nullptr ? adjacency + a * W : nullptr;
@@ -365,15 +362,28 @@ inline void merge_csr_rows(const ContextBase& ctx, SymmetricKernelThread& t,
     const std::uint32_t j = t.up[a];
     const std::uint32_t* row_end = nb + ctx.offset[j + 1];
     const std::uint32_t* after = std::upper_bound(nb + ctx.offset[j], row_end, j);
-    for (std::size_t w = a >> 6; w < W; ++w) {
-      if (word_first[w] > word_last[w]) continue;
-      const std::uint32_t* from = W == 1 ? after : std::lower_bound(after, row_end, word_first[w]);
-      const std::uint32_t* to = std::upper_bound(from, row_end, word_last[w]);
-      const auto f = static_cast<std::size_t>(from - nb), e = static_cast<std::size_t>(to - nb);
-      if (row != nullptr) row[w] = slot_word<false>(nb, slot_of, intact, f, e, 64 * w);
-      if (irow != nullptr)
-        irow[w] = intact == nullptr ? slot_word<false>(nb, slot_of, intact, f, e, 64 * w)
-                                    : slot_word<true>(nb, slot_of, intact, f, e, 64 * w);
+    if (row != nullptr) {
+      for (std::size_t w = a >> 6; w < W; ++w) {
+        if (word_first[w] > word_last[w]) continue;
+        const std::uint32_t* from =
+            W == 1 ? after : std::lower_bound(after, row_end, word_first[w]);
+        const std::uint32_t* to = std::upper_bound(from, row_end, word_last[w]);
+        row[w] = slot_word(nb, slot_of, static_cast<std::size_t>(from - nb),
+                           static_cast<std::size_t>(to - nb), 64 * w);
+      }
+    }
+    if (irow == nullptr) continue;
+    // The intact row: the adjacency row (built above, or the stencil's on the present slots)
+    // less the bonds that failed in up[a]'s CSR row. Most rows have none, even near damage
+    // (row_failed); a row with some is scanned for them.
+    std::copy_n(row != nullptr ? row : &t.adj[a * W], W, irow);
+    if (intact == nullptr || (ctx.row_failed != nullptr && ctx.row_failed[j] == 0)) continue;
+    const std::uint32_t* to = std::upper_bound(after, row_end, last);
+    for (auto k = static_cast<std::size_t>(after - nb); k < static_cast<std::size_t>(to - nb);
+         ++k) {
+      if (intact[k] != 0) continue;
+      const std::uint64_t s = slot_of[nb[k]];
+      if (s != 0) irow[(s - 1) >> 6] &= ~(std::uint64_t{1} << ((s - 1) & 63));
     }
   }
   for (std::size_t n = 0; n < count; ++n) slot_of[t.up[t.list[n]]] = 0;
