@@ -78,10 +78,8 @@ class FamilyScratch {
   template <class TripleFn>
   void for_each_triple(TripleFn&& f) const {
     for_each_pair([&](std::size_t a, std::size_t b) {
-      const std::uint64_t* ra = &adjacency[a * words_];
-      const std::uint64_t* rb = &adjacency[b * words_];
       for (std::size_t w = (b + 1) / 64; w < words_; ++w) {
-        std::uint64_t bits = ra[w] & rb[w] & above(b, w);
+        std::uint64_t bits = thirds_word(a, b, w);
         while (bits) {
           const std::size_t c = w * 64 + static_cast<std::size_t>(std::countr_zero(bits));
           bits &= bits - 1;
@@ -97,11 +95,9 @@ class FamilyScratch {
   template <class PairFn>
   void for_each_pair_with_thirds(std::uint32_t* thirds, PairFn&& f) const {
     for_each_pair([&](std::size_t a, std::size_t b) {
-      const std::uint64_t* ra = &adjacency[a * words_];
-      const std::uint64_t* rb = &adjacency[b * words_];
       std::size_t n = 0;
       for (std::size_t w = (b + 1) / 64; w < words_; ++w) {
-        std::uint64_t bits = ra[w] & rb[w] & above(b, w);
+        std::uint64_t bits = thirds_word(a, b, w);
         while (bits) {
           thirds[n++] = static_cast<std::uint32_t>(w * 64 + std::countr_zero(bits));
           bits &= bits - 1;
@@ -115,11 +111,9 @@ class FamilyScratch {
   // for_each_triple), 0 for the other d > b; whether there is any.
   template <class Flag>
   bool pair_thirds(std::size_t a, std::size_t b, Flag* third) const {
-    const std::uint64_t* ra = &adjacency[a * words_];
-    const std::uint64_t* rb = &adjacency[b * words_];
     std::uint64_t any = 0;
     for (std::size_t w = (b + 1) / 64; w < words_; ++w) {
-      const std::uint64_t bits = ra[w] & rb[w] & above(b, w);
+      const std::uint64_t bits = thirds_word(a, b, w);
       any |= bits;
       const std::size_t first = std::max(w * 64, b + 1), last = std::min(w * 64 + 64, size_);
       for (std::size_t d = first; d < last; ++d)
@@ -152,6 +146,10 @@ class FamilyScratch {
     return p != kNoBond && !body.bond_intact[p];
   }
   // Mask of the bits of word w whose slot index is > s.
+  // Word w of the thirds of pair a < b: the slots c > b adjacent to both.
+  std::uint64_t thirds_word(std::size_t a, std::size_t b, std::size_t w) const {
+    return adjacency[a * words_ + w] & adjacency[b * words_ + w] & above(b, w);
+  }
   static std::uint64_t above(std::size_t s, std::size_t w) {
     if (s / 64 < w) return ~std::uint64_t{0};
     const std::size_t bit = s % 64;

@@ -45,10 +45,8 @@ struct SymmetricKernelThread {
   // bonded to a; adj_intact row a = those of them whose bond is intact.
   std::vector<std::uint64_t> own, adj, adj_intact;
   std::size_t m = 0, words = 0;
-  // Per point of the body, its slot + 1 while its rows are built (merge_csr_rows), else zero;
-  // per row word, the points of its first and last present slot.
+  // Per point of the body, its slot + 1 while its rows are built (build_csr_rows), else zero.
   std::vector<std::uint64_t> slot_of;
-  std::vector<std::uint32_t> word_first, word_last;
   // The slots that hold a neighbour, as a bit row and in increasing order (`count` of them):
   // all of 0..m-1 on the general path; on the stencil path, slots are the stencil's upper
   // offsets and those outside the body are absent.
@@ -111,8 +109,6 @@ struct SymmetricKernelThread {
       own.resize(row_words);
       present.resize(row_words);
       exact_slots.resize(row_words);
-      word_first.resize(row_words);
-      word_last.resize(row_words);
     }
     if (adj.size() < slots * row_words) {
       adj.resize(slots * row_words);
@@ -327,11 +323,11 @@ inline std::uint64_t slot_word(const std::uint32_t* __restrict nb,
 // Rows from the CSR rows: for each present slot a (in list order) and each later present slot b,
 // whether up[b] is in H1(up[a]) (into `adjacency`, when given) and, with `intact_rows`, whether
 // that bond is intact (into adj_intact; its flag read at the bond's CSR position in up[a]'s row).
-// Row a reads the entries of up[a]'s row after up[a] up to the last present slot's point, each
-// word of the row from the entries between its first and last slot's points. (A merge of the
-// two sorted lists did this with a mispredicted branch at every step: 14 % of the general
-// path's step on a 16^3 block, perf.)
-inline void merge_csr_rows(const ContextBase& ctx, SymmetricKernelThread& t,
+// `adjacency` is asked for only on the general path, whose slots are all of 0..m-1: word w of a
+// row is gathered from the entries of up[a]'s row between the points of slots 64 w and
+// 64 w + 63. (A merge of the two sorted lists did this with a mispredicted branch at every step:
+// 14 % of the general path's step on a 16^3 block, perf.)
+inline void build_csr_rows(const ContextBase& ctx, SymmetricKernelThread& t,
                            std::uint64_t* adjacency, bool intact_rows = true) {
   const std::uint32_t* nb = ctx.neighbour;
   const std::size_t W = t.words, count = t.count;
@@ -339,17 +335,7 @@ inline void merge_csr_rows(const ContextBase& ctx, SymmetricKernelThread& t,
   // Grown once per body size (zero between calls: every entry set below is cleared below).
   if (t.slot_of.size() < ctx.body->size()) t.slot_of.resize(ctx.body->size(), 0);
   std::uint64_t* slot_of = t.slot_of.data();
-  // Per word, the points of its first and last present slot (words without one: first > last).
-  std::uint32_t* word_first = t.word_first.data();
-  std::uint32_t* word_last = t.word_last.data();
-  std::fill_n(word_first, W, std::numeric_limits<std::uint32_t>::max());
-  std::fill_n(word_last, W, 0);
-  for (std::size_t n = 0; n < count; ++n) {
-    const std::uint32_t a = t.list[n], j = t.up[a];
-    slot_of[j] = std::uint64_t{a} + 1;
-    word_first[a >> 6] = std::min(word_first[a >> 6], j);
-    word_last[a >> 6] = j;
-  }
+  for (std::size_t n = 0; n < count; ++n) slot_of[t.up[t.list[n]]] = std::uint64_t{t.list[n]} + 1;
   const std::uint8_t* intact = ctx.intact;
   const std::uint32_t last = t.up[t.list[count - 1]];
   for (std::size_t n = 0; n < count; ++n) {
@@ -364,10 +350,9 @@ inline void merge_csr_rows(const ContextBase& ctx, SymmetricKernelThread& t,
     const std::uint32_t* after = std::upper_bound(nb + ctx.offset[j], row_end, j);
     if (row != nullptr) {
       for (std::size_t w = a >> 6; w < W; ++w) {
-        if (word_first[w] > word_last[w]) continue;
-        const std::uint32_t* from =
-            W == 1 ? after : std::lower_bound(after, row_end, word_first[w]);
-        const std::uint32_t* to = std::upper_bound(from, row_end, word_last[w]);
+        const std::uint32_t* from = W == 1 ? after : std::lower_bound(after, row_end, t.up[64 * w]);
+        const std::uint32_t* to =
+            std::upper_bound(from, row_end, t.up[std::min(64 * w + 63, count - 1)]);
         row[w] = slot_word(nb, slot_of, static_cast<std::size_t>(from - nb),
                            static_cast<std::size_t>(to - nb), 64 * w);
       }

@@ -42,7 +42,7 @@ inline std::size_t load_upper_family(const Context<Model>& ctx, std::size_t i,
   if (!rows) return m;
   // No failed bond in the rows of i and its upper neighbours: the intact rows are the adjacency
   // (as on the stencil path), not built.
-  merge_csr_rows(ctx, t, t.adj.data(), failed_near);
+  build_csr_rows(ctx, t, t.adj.data(), failed_near);
   t.intact_is_adjacency = !failed_near;
   return m;
 }

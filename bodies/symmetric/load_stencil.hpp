@@ -67,7 +67,7 @@ inline std::size_t load_upper_family_stencil(const Context<Model>& ctx, std::siz
     for (std::size_t w = 0; w < W; ++w) row[w] = srow[w] & present[w];
   }
   t.intact_is_adjacency = !failed_near;
-  if (failed_near) merge_csr_rows(ctx, t, nullptr);
+  if (failed_near) build_csr_rows(ctx, t, nullptr);
   return count;
 }
 
