@@ -350,7 +350,7 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop_conservative(
     if (ctx.all_edges) mi = mj = mk = ml;
     std::uint64_t todo = cand & (mi | mj | mk | ml);
 #if defined(CKPD_BATCHED_TETRAHEDRA)
-    if constexpr (batched_tetrahedra<Model, kStencil>()) {
+    if constexpr (batched_tetrahedra<Model>()) {
       // The sets active for all four vertices: evaluated with the group's other pairs
       // (tetrahedron_group.hpp), the others one by one below.
       const std::uint64_t full = todo & mi & mj & mk & ml;

@@ -209,7 +209,7 @@ void process_point(const Context<Model>& ctx, std::size_t i, SymmetricKernelThre
               }
             });
       };
-      if constexpr (batched_tetrahedra<Model, kStencil>()) {
+      if constexpr (batched_tetrahedra<Model>()) {
         const bool intact = intact_centre(t);
         if (!(Model::kTriangles && ctx.pairs) && ctx.triples && (intact || ctx.all_edges)) {
           intact_pair_loop<kStencil>(ctx, t, count, !intact, group, evaluate_group);

@@ -63,14 +63,14 @@ constexpr bool has_strain_law() {
   };
 }
 
-// Which tetrahedra go in groups: the linear law (m = 1/2) on both paths; a Seth-Hill measure on
-// the general path only (measured with the former blocks, docs/PERFORMANCE.md "Batched Seth-Hill
-// tetrahedra": on the stencil path the lanes lost 1.3-1.4x against the scalar loop, whose
-// stencil sets need no division for v / V).
-template <class Model, bool kStencil>
+// Which tetrahedra go in groups: every strain law on both paths. (With the former blocks of 4
+// slots the Seth-Hill measures stayed in the scalar loop on the stencil path, 1.3-1.4x faster
+// there; the groups of pairs are 2.1x (m = -1/2) and 1.5x (m = 0) faster than that loop:
+// docs/PERFORMANCE.md "Seth-Hill tetrahedra in groups on the stencil path".)
+template <class Model>
 constexpr bool batched_tetrahedra() {
   if constexpr (kTetrahedronBatch > 0 && Model::kTetrahedra && has_strain_law<Model>()) {
-    return linear_strain_law<Model>() || !kStencil;
+    return true;
   } else {
     return false;
   }

@@ -158,7 +158,7 @@ CKPD_TETRAHEDRON_LOOP_INLINE inline void tetrahedron_loop(
     std::uint64_t full = cand & mi & mj & mk & ml;
     std::uint64_t part = cand & (mi | mj | mk | ml) & ~full;
 #if defined(CKPD_BATCHED_TETRAHEDRA)
-    if constexpr (batched_tetrahedra<Model, kStencil>()) {
+    if constexpr (batched_tetrahedra<Model>()) {
       // Evaluated with the group's other pairs (tetrahedron_group.hpp).
       batch::PairGroup::words(t)[wc * batch::kG + static_cast<std::size_t>(group.n)] = full;
       group.pending = group.pending || full != 0;
