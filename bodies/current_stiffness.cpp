@@ -412,8 +412,9 @@ inline void accumulate(TermLanes& acc, const VertexTerms& t, bool with_shrink) {
   if (with_shrink) acc.shrink = t.shrink < acc.shrink ? t.shrink : acc.shrink;
 }
 
-// The measure's slope and curvature per lane (tangent()): m = -1/2 in vector arithmetic, any
-// other m lane by lane in the lanes of `use`.
+// The measure's slope and curvature per lane (tangent()): m = -1/2 in vector arithmetic, m = 0
+// with Highway's vector logarithm where the build has it, any other m lane by lane in the lanes
+// of `use` (the others are masked by the caller).
 template <class Model>
 inline void tangent_lanes(const Model& model, vd r, vd penalty, unsigned use, vd& slope,
                           vd& curvature) {
@@ -424,6 +425,16 @@ inline void tangent_lanes(const Model& model, vd r, vd penalty, unsigned use, vd
       curvature = g * g - splat(2.0) * e * g * ir;
       return;
     }
+#if defined(CKPD_HAVE_HIGHWAY)
+    if (model.strain.m == 0) {
+      // Lanes outside `use` take r = 1 (their r may be 0 or not a number).
+      const vd ru = lanes_of(use) ? r : splat(1.0);
+      const vd e = symmetric::batch::log_lanes(ru), ir = splat(1.0) / ru;
+      slope = e * ir + penalty;
+      curvature = (splat(1.0) - e) * ir * ir;
+      return;
+    }
+#endif
   }
   alignas(8 * kLanes) double rl[kLanes], pl[kLanes], sl[kLanes] = {}, cl[kLanes] = {};
   storev(rl, r);
