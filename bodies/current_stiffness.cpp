@@ -718,10 +718,12 @@ void add_centre(const Model& model, const Body& body, std::size_t i, bool triang
         if (!tetrahedra) continue;
         const PairOfSet pr{a, b, ab, ia, ib, eab};
 #if defined(CKPD_BATCHED_TETRAHEDRA)
-        add_tetrahedra_lanes(model, body, u, pr, with_shrink, sums, wk.slot_lanes.data());
-#else
-        add_tetrahedra_scalar(model, body, u, pr, with_shrink, sums);
+        if (tetrahedra_in_lanes) {
+          add_tetrahedra_lanes(model, body, u, pr, with_shrink, sums, wk.slot_lanes.data());
+          continue;
+        }
 #endif
+        add_tetrahedra_scalar(model, body, u, pr, with_shrink, sums);
       }
     }
   }

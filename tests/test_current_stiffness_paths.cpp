@@ -3,8 +3,8 @@
 // that evaluates every set on its own (reference/current_stiffness.cpp): the same bound and the
 // same shrink times to 1e-11 relative on randomly deformed bodies with random failed bonds, in
 // 2D and 3D, lattice and jittered cloud, m = 0, -1/4 and -1/2, both damage rules and force
-// forms, 1 and 2 threads; also with a set squeezed towards zero volume, where the bound is
-// dominated by one set's curvature.
+// forms, 1 and 2 threads, the tetrahedra in vector lanes and one by one; also with a set squeezed
+// towards zero volume, where the bound is dominated by one set's curvature.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
@@ -34,6 +34,14 @@ void random_velocities(Body& body, std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-10, 10);
   for (Vec3& v : body.velocity) v = Vec3(u(rng), u(rng), body.dimension == 3 ? u(rng) : 0.0);
 }
+
+// Evaluates the tetrahedra in vector lanes (where the build has them) or one by one (the loop of
+// builds without them) while in scope.
+struct LanesGuard {
+  bool saved = ckpd::current_stiffness_detail::tetrahedra_in_lanes;
+  explicit LanesGuard(bool lanes) { ckpd::current_stiffness_detail::tetrahedra_in_lanes = lanes; }
+  ~LanesGuard() { ckpd::current_stiffness_detail::tetrahedra_in_lanes = saved; }
+};
 
 // A set's volume is computed from its lowest vertex here and from each vertex in the plain
 // path: rounding of v relative to |v| differs by a few ulps times |p||q||r| / |v|, and the
@@ -69,16 +77,20 @@ TEST_CASE("Current-state stiffness bound equals the plain set-by-set path", "[st
           std::vector<double> want, want_shrink;
           ckpd::reference_ckpd_current_stiffness_bound(body, want, &want_shrink);
           for (const int threads : {1, 2}) {
-            omp_set_num_threads(threads);
-            std::vector<double> got, got_shrink, got_plain;
-            ckpd::ckpd_current_stiffness_bound(body, got, &got_shrink);
-            ckpd::ckpd_current_stiffness_bound(body, got_plain);
-            INFO(s.label << ", m = " << m << ", energy_consistent "
-                         << (form == ckpd::ForceForm::energy_consistent) << ", all_edges "
-                         << (rule == ckpd::DamageRule::all_edges) << ", threads " << threads);
-            CHECK(relative_difference(got, want) <= kTolerance);
-            CHECK(relative_difference(got_plain, want) <= kTolerance);
-            CHECK(relative_difference(got_shrink, want_shrink) <= kTolerance);
+            for (const bool lanes : {true, false}) {
+              omp_set_num_threads(threads);
+              const LanesGuard use(lanes);
+              std::vector<double> got, got_shrink, got_plain;
+              ckpd::ckpd_current_stiffness_bound(body, got, &got_shrink);
+              ckpd::ckpd_current_stiffness_bound(body, got_plain);
+              INFO(s.label << ", m = " << m << ", energy_consistent "
+                           << (form == ckpd::ForceForm::energy_consistent) << ", all_edges "
+                           << (rule == ckpd::DamageRule::all_edges) << ", threads " << threads
+                           << ", lanes " << lanes);
+              CHECK(relative_difference(got, want) <= kTolerance);
+              CHECK(relative_difference(got_plain, want) <= kTolerance);
+              CHECK(relative_difference(got_shrink, want_shrink) <= kTolerance);
+            }
           }
         }
       }
@@ -99,13 +111,17 @@ TEST_CASE("Current-state stiffness bound equals the plain path with a set squeez
   const std::size_t centre = 21;  // interior: (1, 1, 1)
   for (const double squeeze : {0.5, 0.9, 0.99}) {
     body.displacement[centre].z() = -squeeze * kDx;
-    std::vector<double> want, got;
+    std::vector<double> want;
     ckpd::reference_ckpd_current_stiffness_bound(body, want);
-    ckpd::ckpd_current_stiffness_bound(body, got);
-    INFO("squeeze " << squeeze << ": bound " << got[centre] << " (at rest "
-                    << body.stiffness_bound[centre] << ")");
-    CHECK(got[centre] > body.stiffness_bound[centre]);
-    CHECK(relative_difference(got, want) <= kTolerance);
+    for (const bool lanes : {true, false}) {
+      const LanesGuard use(lanes);
+      std::vector<double> got;
+      ckpd::ckpd_current_stiffness_bound(body, got);
+      INFO("squeeze " << squeeze << ", lanes " << lanes << ": bound " << got[centre] << " (at rest "
+                      << body.stiffness_bound[centre] << ")");
+      CHECK(got[centre] > body.stiffness_bound[centre]);
+      CHECK(relative_difference(got, want) <= kTolerance);
+    }
   }
 }
 
