@@ -81,10 +81,11 @@ constexpr int kLanes = 1;
 struct UpperFamily {
   std::size_t n = 0, words = 0, stride = 0;
   std::vector<std::uint32_t> index;
-  std::vector<Vec3> ref, cur;        // offsets from the centre
-  std::vector<double> wx, wy, wz;    // velocities relative to the centre's
-  std::vector<double> L, l;          // reference and current lengths
-  std::vector<std::uint8_t> bonded;  // the centre's bond to the slot is intact
+  std::vector<Vec3> ref, cur;               // offsets from the centre
+  std::vector<double> cur_x, cur_y, cur_z;  // cur, one array per component (the lanes)
+  std::vector<double> wx, wy, wz;           // velocities relative to the centre's
+  std::vector<double> L, l;                 // reference and current lengths
+  std::vector<std::uint8_t> bonded;         // the centre's bond to the slot is intact
   // Bit b of word b / 64 of row a: the centre's bond to b (bonded_bits), b adjacent to a, and
   // the members' own bond intact (intact_bits).
   std::vector<std::uint64_t> bonded_bits, adjacent, intact_bits;
@@ -116,7 +117,7 @@ struct UpperFamily {
         end - begin + static_cast<std::size_t>(kLanes);  // + kLanes: a vector past the last slot
     if (index.size() < most) {
       for (auto* v : {&ref, &cur}) v->resize(most);
-      for (auto* v : {&wx, &wy, &wz, &L, &l}) v->resize(most, 0.0);
+      for (auto* v : {&cur_x, &cur_y, &cur_z, &wx, &wy, &wz, &L, &l}) v->resize(most, 0.0);
       index.resize(most);
       bonded.resize(most);
     }
@@ -126,6 +127,9 @@ struct UpperFamily {
       index[n] = j;
       ref[n] = body.reference_position[j] - Xi;
       cur[n] = has_u ? Vec3(ref[n] + (body.displacement[j] - ui)) : ref[n];
+      cur_x[n] = cur[n].x();
+      cur_y[n] = cur[n].y();
+      cur_z[n] = cur[n].z();
       if (with_velocity) {
         const Vec3 wj = body.velocity[j] - body.velocity[i];
         wx[n] = wj.x();
@@ -196,9 +200,9 @@ struct UpperFamily {
 // One centre's triangle and tetrahedron terms per vertex slot (0: the centre, 1 + a: upper slot
 // a), added to the worker's rows once per centre (flush): a set's vertex terms land in a few
 // contiguous slot rows instead of scattered rows of the whole body. Measured on half-resolution
-// Kalthoff-Winkler at m = -1/2: 4-13 % off the bound's time (docs/PERFORMANCE.md). The
-// tetrahedra's 3 x 3 terms are stored entry by entry (q3[e * slots + s]), so that the lanes of
-// slots c, c + 1, ... are one vector.
+// Kalthoff-Winkler at m = -1/2: 4-13 % off the bound's time (docs/PERFORMANCE.md). The 3 x 3
+// terms are stored entry by entry (q2[e * slots + s], q3 the same), so that the lanes of slots
+// b, b + 1, ... (triangles) or c, c + 1, ... (tetrahedra) are one vector.
 struct SlotSums {
   std::size_t slots = 0;
   std::vector<double> q2, q3, iso2, iso3, shrink;
@@ -212,12 +216,13 @@ struct SlotSums {
     if (with_shrink) shrink.assign(slots, std::numeric_limits<double>::infinity());
     collapsed.assign(slots, 0);
   }
+  double& q2_at(std::size_t s, int e) { return q2[static_cast<std::size_t>(e) * slots + s]; }
   double& q3_at(std::size_t s, int e) { return q3[static_cast<std::size_t>(e) * slots + s]; }
   void flush(const UpperFamily& u, std::size_t i, bool with_shrink, Rows& rows) const {
     for (std::size_t s = 0; s <= u.n; ++s) {
       const std::size_t p = s == 0 ? i : u.index[s - 1];
       for (int e = 0; e < 6; ++e) {
-        rows.q2[6 * p + e] += q2[6 * s + e];
+        rows.q2[6 * p + e] += q2[static_cast<std::size_t>(e) * slots + s];
         rows.q3[6 * p + e] += q3[static_cast<std::size_t>(e) * slots + s];
       }
       rows.iso2[p] += iso2[s];
@@ -234,6 +239,63 @@ struct PairOfSet {
   std::size_t a, b, ab;
   bool ia, ib, eab;
 };
+
+// The triangle {i, a, b} of an adjacent pair a < b of the centre's upper family.
+template <class Model>
+void add_triangle_scalar(const Model& model, const Body& body, const UpperFamily& u, std::size_t a,
+                         std::size_t b, bool with_shrink, SlotSums& sums) {
+  const bool planar = body.dimension == 2;
+  const bool all_edges = body.damage_rule == DamageRule::all_edges;
+  const double deg = body.degenerate_fraction;
+  const std::size_t ab = u.at(a, b);
+  const bool ia = u.bonded[a], ib = u.bonded[b], eab = u.edge_intact(a, b);
+  // Vertex activity: the vertex's own two bonds hold (centre_bonds) or all three edges.
+  const bool every = ia && ib && eab;
+  bool act[3] = {all_edges ? every : ia && ib, all_edges ? every : ia && eab,
+                 all_edges ? every : ib && eab};
+  const double A = u.ref_cross_norm[ab];
+  const double La = u.L[a], Lb = u.L[b], Lab = u.ref_edge[ab];
+  // Degenerate as seen from each vertex: A against the product of its two edges.
+  act[0] = act[0] && A > deg * La * Lb;
+  act[1] = act[1] && A > deg * La * Lab;
+  act[2] = act[2] && A > deg * Lb * Lab;
+  if (!(act[0] || act[1] || act[2])) return;
+  const std::size_t slot[3] = {0, 1 + a, 1 + b};
+  const double an = u.cross_norm[ab];
+  if (!(an > 0)) {
+    for (int v = 0; v < 3; ++v)
+      if (act[v]) sums.collapsed[slot[v]] = 1;
+    return;
+  }
+  const Vec3& p = u.cur[a];
+  const Vec3& q = u.cur[b];
+  const Vec3 area = u.cross(ab);
+  const bool inverted = model.triangle_inverted(area.z(), u.ref_cross_z[ab]);
+  const Vec3 unit = area / an;
+  double slope, curvature;
+  tangent(model, an / A, inverted ? model.pen2 : 0.0, slope, curvature);
+  // grad |a| at i, a, b: (p - q) x n, q x n, n x p; their norms are the edges opposite each
+  // vertex.
+  const double e[3] = {u.edge[ab], u.l[b], u.l[a]};
+  const double sum = e[0] + e[1] + e[2];
+  const double c = std::abs(curvature) * law_curvature(2.0, A) * sum;
+  const Vec3 g[3] = {(p - q).cross(unit), q.cross(unit), unit.cross(p)};
+  const double rate = with_shrink ? unit.dot(u.w(a).cross(q) + p.cross(u.w(b))) : 0.0;
+  for (int v = 0; v < 3; ++v) {
+    if (!act[v]) continue;
+    const std::size_t sv = slot[v];
+    if (e[v] > 0) {
+      const double f = c / e[v];
+      const Vec3 fg = f * g[v];
+      const double t[6] = {fg.x() * g[v].x(), fg.x() * g[v].y(), fg.x() * g[v].z(),
+                           fg.y() * g[v].y(), fg.y() * g[v].z(), fg.z() * g[v].z()};
+      for (int k = 0; k < 6; ++k) sums.q2_at(sv, k) += t[k];
+    }
+    const double out_of_plane = planar ? 0.0 : e[v] * sum / an;
+    sums.iso2[sv] += 2.0 * std::abs(slope) * (2.0 + out_of_plane);
+    if (with_shrink) shrink(an, rate, sums.shrink[sv]);
+  }
+}
 
 // The tetrahedra {i, a, b, c} (c > b adjacent to a and b) one by one.
 template <class Model>
@@ -379,9 +441,11 @@ struct TermLanes {
     iso = splat(0.0);
     shrink = splat(std::numeric_limits<double>::infinity());
   }
-  void reduce_into(SlotSums& sums, std::size_t slot, bool with_shrink) const {
-    for (int e = 0; e < 6; ++e) sums.q3_at(slot, e) += lane_sum(q[e]);
-    sums.iso3[slot] += lane_sum(iso);
+  // Into the tetrahedra's sums (q3, iso3) or, with `pairs`, the triangles' (q2, iso2).
+  void reduce_into(SlotSums& sums, std::size_t slot, bool with_shrink, bool pairs = false) const {
+    for (int e = 0; e < 6; ++e)
+      (pairs ? sums.q2_at(slot, e) : sums.q3_at(slot, e)) += lane_sum(q[e]);
+    (pairs ? sums.iso2 : sums.iso3)[slot] += lane_sum(iso);
     if (with_shrink) sums.shrink[slot] = std::min(sums.shrink[slot], lane_min(shrink));
   }
 };
@@ -586,6 +650,126 @@ void add_tetrahedra_lanes(const Model& model, const Body& body, const UpperFamil
   }
 }
 
+// The triangles {i, a, b} of slot a, kLanes slots b at a time (aligned blocks masked to those
+// adjacent to a and above it), as add_triangle_scalar computes each but for the divisions by
+// |a| (one reciprocal) and the order of the sums: i's and a's terms in their slots' TermLanes,
+// b's as vectors.
+template <class Model>
+void add_triangles_lanes(const Model& model, const Body& body, const UpperFamily& u, std::size_t a,
+                         bool with_shrink, SlotSums& sums, lanes::TermLanes* slot_lanes) {
+  using namespace lanes;
+  const bool planar = body.dimension == 2;
+  const bool all_edges = body.damage_rule == DamageRule::all_edges;
+  const double deg = body.degenerate_fraction;
+  const std::uint64_t* row_a = &u.adjacent[a * u.words];
+  const std::uint64_t* intact_a = &u.intact_bits[a * u.words];
+  const unsigned lane_mask = (1u << kLanes) - 1;
+  const bool ia = u.bonded[a];
+  const double La = u.L[a];
+  const vd deg_a = splat(deg * La), degv = splat(deg), zero = splat(0.0), one = splat(1.0);
+  const vd px = splat(u.cur[a].x()), py = splat(u.cur[a].y()), pz = splat(u.cur[a].z());
+  const vd wax = splat(u.wx[a]), way = splat(u.wy[a]), waz = splat(u.wz[a]);
+  const vd la = splat(u.l[a]), pen2 = splat(model.pen2);
+  TermLanes& centre = slot_lanes[0];
+  TermLanes& at_a = slot_lanes[1 + a];
+  VertexTerms t;
+  for (std::size_t wb = (a + 1) / 64; wb < u.words; ++wb) {
+    std::uint64_t bbits = row_a[wb];
+    if (wb == a / 64) bbits &= (a % 64 == 63) ? 0 : (~std::uint64_t{0} << (a % 64 + 1));
+    while (bbits) {
+      const unsigned base = static_cast<unsigned>(std::countr_zero(bbits)) & ~(kLanes - 1u);
+      const unsigned live = static_cast<unsigned>(bbits >> base) & lane_mask;
+      bbits &= ~(std::uint64_t{lane_mask} << base);
+      const std::size_t b0 = wb * 64 + base, ab = u.at(a, b0);
+      const unsigned ib = static_cast<unsigned>(u.bonded_bits[wb] >> base) & live;
+      const unsigned eab = static_cast<unsigned>(intact_a[wb] >> base) & live;
+      unsigned act[3];
+      if (all_edges) {
+        act[0] = act[1] = act[2] = ia ? ib & eab : 0u;
+      } else {
+        act[0] = ia ? ib : 0u;
+        act[1] = ia ? eab : 0u;
+        act[2] = ib & eab;
+      }
+      if ((act[0] | act[1] | act[2]) == 0) continue;
+      const vd A = load(u.ref_cross_norm, ab), Lb = load(u.L, b0), Lab = load(u.ref_edge, ab);
+      act[0] &= bits(A > deg_a * Lb);
+      act[1] &= bits(A > deg_a * Lab);
+      act[2] &= bits(A > degv * Lb * Lab);
+      unsigned any = act[0] | act[1] | act[2];
+      if (any == 0) continue;
+      const vd an = load(u.cross_norm, ab);
+      if (const unsigned flat = ~bits(an > 0) & any; flat != 0) {
+        // Collapsed triangles: their active vertices' bounds are infinite (rare).
+        for (unsigned f = flat; f; f &= f - 1) {
+          const unsigned l = static_cast<unsigned>(std::countr_zero(f));
+          const std::size_t slot[3] = {0, 1 + a, 1 + b0 + l};
+          for (int v = 0; v < 3; ++v)
+            if ((act[v] >> l) & 1) sums.collapsed[slot[v]] = 1;
+        }
+        for (unsigned& m : act) m &= ~flat;
+        any &= ~flat;
+        if (any == 0) continue;
+      }
+      const vd ax = load(u.cross_x, ab), ay = load(u.cross_y, ab), az = load(u.cross_z, ab);
+      const vd penalty = planar ? ((az * load(u.ref_cross_z, ab) < 0) ? pen2 : zero) : zero;
+      // Zero in lanes without a triangle (|a| = 0 there would make the unit normal, and with it
+      // the masked lanes' f g g^T, not a number).
+      const vd inverse_an = an > 0 ? one / an : zero;
+      const vd nx = ax * inverse_an, ny = ay * inverse_an, nz = az * inverse_an;
+      vd slope, curvature;
+      tangent_lanes(model, an / A, penalty, any, slope, curvature);
+      const vd qx = load(u.cur_x, b0), qy = load(u.cur_y, b0), qz = load(u.cur_z, b0);
+      const vd e0 = load(u.edge, ab), e1 = load(u.l, b0);
+      const vd sum = e0 + e1 + la;
+      const vd c = vabs(curvature) * (splat(2.0) / A) * sum;
+      const vd iso_scale = splat(2.0) * vabs(slope);
+      // grad |a| at i, a, b: (p - q) x n, q x n, n x p.
+      const vd dx = px - qx, dy = py - qy, dz = pz - qz;
+      const vd g0x = dy * nz - dz * ny, g0y = dz * nx - dx * nz, g0z = dx * ny - dy * nx;
+      const vd g1x = qy * nz - qz * ny, g1y = qz * nx - qx * nz, g1z = qx * ny - qy * nx;
+      const vd g2x = ny * pz - nz * py, g2y = nz * px - nx * pz, g2z = nx * py - ny * px;
+      vd set_shrink = zero;
+      if (with_shrink) {
+        const vd wbx = load(u.wx, b0), wby = load(u.wy, b0), wbz = load(u.wz, b0);
+        // unit . (w_a x q + p x w_b)
+        const vd sx = (way * qz - waz * qy) + (py * wbz - pz * wby);
+        const vd sy = (waz * qx - wax * qz) + (pz * wbx - px * wbz);
+        const vd sz = (wax * qy - way * qx) + (px * wby - py * wbx);
+        const vd rate = nx * sx + ny * sy + nz * sz;
+        set_shrink = rate < 0 ? an / -rate : splat(std::numeric_limits<double>::infinity());
+      }
+      auto vertex = [&](unsigned mask, vd e, vd gx, vd gy, vd gz) {
+        const vd inverse_e = e > 0 ? one / e : zero;
+        const vd out_of_plane = planar ? zero : e * sum * inverse_an;
+        vertex_terms(lanes_of(mask), c, inverse_e, gx, gy, gz,
+                     iso_scale * (splat(2.0) + out_of_plane), set_shrink, with_shrink, t);
+      };
+      if (act[0]) {
+        vertex(act[0], e0, g0x, g0y, g0z);
+        accumulate(centre, t, with_shrink);
+      }
+      if (act[1]) {
+        vertex(act[1], e1, g1x, g1y, g1z);
+        accumulate(at_a, t, with_shrink);
+      }
+      if (act[2]) {
+        // Slots 1 + b0, ..., one vector per entry.
+        vertex(act[2], la, g2x, g2y, g2z);
+        const std::size_t sb = 1 + b0;
+        for (int e = 0; e < 6; ++e) {
+          double* q = &sums.q2_at(sb, e);
+          storev(q, loadv<vd>(q) + t.q[e]);
+        }
+        storev(&sums.iso2[sb], loadv<vd>(&sums.iso2[sb]) + t.iso);
+        if (with_shrink) {
+          const vd old = loadv<vd>(&sums.shrink[sb]);
+          storev(&sums.shrink[sb], t.shrink < old ? t.shrink : old);
+        }
+      }
+    }
+  }
+}
 #endif  // CKPD_BATCHED_TETRAHEDRA
 
 struct BoundWorker {
@@ -595,7 +779,7 @@ struct BoundWorker {
 #if defined(CKPD_BATCHED_TETRAHEDRA)
   // Per slot of the centre: its tetrahedra's terms in lanes, summed across the lanes once per
   // centre (add_centre) and cleared again.
-  std::vector<lanes::TermLanes> slot_lanes;
+  std::vector<lanes::TermLanes> slot_lanes, slot_lanes_triangles;
 #endif
 };
 
@@ -613,8 +797,6 @@ void add_centre(const Model& model, const Body& body, std::size_t i, bool triang
   SlotSums& sums = wk.sums;
   Rows& rows = wk.rows;
   const bool planar = body.dimension == 2;
-  const bool all_edges = body.damage_rule == DamageRule::all_edges;
-  const double deg = body.degenerate_fraction;
   auto q1 = [&](std::size_t p) { return &rows.q1[6 * p]; };
   auto shrink_at = [&](std::size_t p, double measure, double rate) {
     if (with_shrink) shrink(measure, rate, rows.shrink[p]);
@@ -653,18 +835,35 @@ void add_centre(const Model& model, const Body& body, std::size_t i, bool triang
   }
   if (!triangles && !tetrahedra) return;
   sums.reset(u.stride + 1, with_shrink);
-  auto shrink_slot = [&](std::size_t slot, double measure, double rate) {
-    if (with_shrink) shrink(measure, rate, sums.shrink[slot]);
-  };
 #if defined(CKPD_BATCHED_TETRAHEDRA)
-  if (tetrahedra && wk.slot_lanes.size() < u.n + 1) {
-    lanes::TermLanes cleared;
-    cleared.clear();
-    wk.slot_lanes.resize(u.n + 1, cleared);
-  }
+  const bool in_lanes = tetrahedra_in_lanes;
+  for (auto* slot_lanes : {&wk.slot_lanes, &wk.slot_lanes_triangles})
+    if (slot_lanes->size() < u.n + 1) {
+      lanes::TermLanes cleared;
+      cleared.clear();
+      slot_lanes->resize(u.n + 1, cleared);
+    }
+#else
+  const bool in_lanes = false;
 #endif
   for (std::size_t a = 0; a < u.n; ++a) {
     const std::uint64_t* row_a = &u.adjacent[a * u.words];
+    if (triangles) {
+#if defined(CKPD_BATCHED_TETRAHEDRA)
+      if (in_lanes)
+        add_triangles_lanes(model, body, u, a, with_shrink, sums, wk.slot_lanes_triangles.data());
+#endif
+      if (!in_lanes)
+        for (std::size_t wb = (a + 1) / 64; wb < u.words; ++wb) {
+          std::uint64_t bits = row_a[wb];
+          if (wb == a / 64) bits &= (a % 64 == 63) ? 0 : (~std::uint64_t{0} << (a % 64 + 1));
+          for (; bits; bits &= bits - 1)
+            add_triangle_scalar(model, body, u, a,
+                                wb * 64 + static_cast<std::size_t>(std::countr_zero(bits)),
+                                with_shrink, sums);
+        }
+    }
+    if (!tetrahedra) continue;
     for (std::size_t wb = (a + 1) / 64; wb < u.words; ++wb) {
       std::uint64_t bits = row_a[wb];
       if (wb == a / 64) bits &= (a % 64 == 63) ? 0 : (~std::uint64_t{0} << (a % 64 + 1));
@@ -672,53 +871,9 @@ void add_centre(const Model& model, const Body& body, std::size_t i, bool triang
         const std::size_t b = wb * 64 + static_cast<std::size_t>(std::countr_zero(bits));
         const std::size_t ab = u.at(a, b);
         const bool ia = u.bonded[a], ib = u.bonded[b], eab = u.edge_intact(a, b);
-        if (triangles) {
-          // Vertex activity: the vertex's own two bonds hold (centre_bonds) or all three edges.
-          const bool every = ia && ib && eab;
-          bool act[3] = {all_edges ? every : ia && ib, all_edges ? every : ia && eab,
-                         all_edges ? every : ib && eab};
-          const double A = u.ref_cross_norm[ab];
-          const double La = u.L[a], Lb = u.L[b], Lab = u.ref_edge[ab];
-          // Degenerate as seen from each vertex: A against the product of its two edges.
-          act[0] = act[0] && A > deg * La * Lb;
-          act[1] = act[1] && A > deg * La * Lab;
-          act[2] = act[2] && A > deg * Lb * Lab;
-          if (act[0] || act[1] || act[2]) {
-            const std::size_t slot[3] = {0, 1 + a, 1 + b};
-            const double an = u.cross_norm[ab];
-            if (!(an > 0)) {
-              for (int v = 0; v < 3; ++v)
-                if (act[v]) sums.collapsed[slot[v]] = 1;
-            } else {
-              const Vec3& p = u.cur[a];
-              const Vec3& q = u.cur[b];
-              const Vec3 area = u.cross(ab);
-              const bool inverted = model.triangle_inverted(area.z(), u.ref_cross_z[ab]);
-              const Vec3 unit = area / an;
-              double slope, curvature;
-              tangent(model, an / A, inverted ? model.pen2 : 0.0, slope, curvature);
-              // grad |a| at i, a, b: (p - q) x n, q x n, n x p; their norms are the edges
-              // opposite each vertex.
-              const double e[3] = {u.edge[ab], u.l[b], u.l[a]};
-              const double sum = e[0] + e[1] + e[2];
-              const double c = std::abs(curvature) * law_curvature(2.0, A) * sum;
-              const Vec3 g[3] = {(p - q).cross(unit), q.cross(unit), unit.cross(p)};
-              const double rate = with_shrink ? unit.dot(u.w(a).cross(q) + p.cross(u.w(b))) : 0.0;
-              for (int v = 0; v < 3; ++v) {
-                if (!act[v]) continue;
-                const std::size_t sv = slot[v];
-                if (e[v] > 0) add_dyad(&sums.q2[6 * sv], c / e[v], g[v]);
-                const double out_of_plane = planar ? 0.0 : e[v] * sum / an;
-                sums.iso2[sv] += 2.0 * std::abs(slope) * (2.0 + out_of_plane);
-                shrink_slot(sv, an, rate);
-              }
-            }
-          }
-        }
-        if (!tetrahedra) continue;
         const PairOfSet pr{a, b, ab, ia, ib, eab};
 #if defined(CKPD_BATCHED_TETRAHEDRA)
-        if (tetrahedra_in_lanes) {
+        if (in_lanes) {
           add_tetrahedra_lanes(model, body, u, pr, with_shrink, sums, wk.slot_lanes.data());
           continue;
         }
@@ -728,10 +883,16 @@ void add_centre(const Model& model, const Body& body, std::size_t i, bool triang
     }
   }
 #if defined(CKPD_BATCHED_TETRAHEDRA)
-  if (tetrahedra)
+  if (in_lanes)
     for (std::size_t s = 0; s <= u.n; ++s) {
-      wk.slot_lanes[s].reduce_into(sums, s, with_shrink);
-      wk.slot_lanes[s].clear();
+      if (tetrahedra) {
+        wk.slot_lanes[s].reduce_into(sums, s, with_shrink);
+        wk.slot_lanes[s].clear();
+      }
+      if (triangles) {
+        wk.slot_lanes_triangles[s].reduce_into(sums, s, with_shrink, true);
+        wk.slot_lanes_triangles[s].clear();
+      }
     }
 #endif
   sums.flush(u, i, with_shrink, rows);
