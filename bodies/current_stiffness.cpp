@@ -12,9 +12,10 @@
 // with one square root (the centre's gradient norm; the other three are pair quantities) instead
 // of seven; a triangle's gradient norms are edge lengths (grad_c |a| = G_c x n with n normal to
 // G_c). Where the build has the force kernel's vector lanes (AVX2, AVX-512) the tetrahedra of
-// one pair (a, b) are evaluated a block of slots c at a time (add_tetrahedra_lanes; scalar
-// builds keep add_tetrahedra_scalar). Each worker sums into its own rows, added in worker
-// order: deterministic per thread count.
+// one pair (a, b) are evaluated a block of slots c at a time (add_tetrahedra_lanes) and the
+// triangles of one slot a a block of slots b at a time (add_triangles_lanes); builds without
+// them keep the one-by-one loops (add_tetrahedra_scalar, add_triangle_scalar). Each worker sums
+// into its own rows, added in worker order: deterministic per thread count.
 #include "bodies/current_stiffness.hpp"
 
 #include <omp.h>
@@ -836,7 +837,7 @@ void add_centre(const Model& model, const Body& body, std::size_t i, bool triang
   if (!triangles && !tetrahedra) return;
   sums.reset(u.stride + 1, with_shrink);
 #if defined(CKPD_BATCHED_TETRAHEDRA)
-  const bool in_lanes = tetrahedra_in_lanes;
+  const bool in_lanes = sets_in_lanes;
   for (auto* slot_lanes : {&wk.slot_lanes, &wk.slot_lanes_triangles})
     if (slot_lanes->size() < u.n + 1) {
       lanes::TermLanes cleared;

@@ -30,9 +30,10 @@ void ckpd_current_stiffness_bound(const Body& body, std::vector<double>& bound,
                                   std::vector<double>* shrink_time = nullptr);
 
 namespace current_stiffness_detail {
-// Whether the tetrahedra are evaluated in vector lanes where the build has them (true, the
-// default); false takes the one-by-one loop of builds without them, so that tests compare both.
-inline bool tetrahedra_in_lanes = true;
+// Whether the triangles and tetrahedra are evaluated in vector lanes where the build has them
+// (true, the default); false takes the one-by-one loops of builds without them, so that tests
+// compare both.
+inline bool sets_in_lanes = true;
 }  // namespace current_stiffness_detail
 
 // The same shrink time over a body's intact bonds alone (any model).

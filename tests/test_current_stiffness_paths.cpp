@@ -3,7 +3,7 @@
 // that evaluates every set on its own (reference/current_stiffness.cpp): the same bound and the
 // same shrink times to 1e-11 relative on randomly deformed bodies with random failed bonds, in
 // 2D and 3D, lattice and jittered cloud, m = 0, -1/4 and -1/2, both damage rules and force
-// forms, 1 and 2 threads, the tetrahedra in vector lanes and one by one; also with a set squeezed
+// forms, 1 and 2 threads, the sets in vector lanes and one by one; also with a set squeezed
 // towards zero volume, where the bound is dominated by one set's curvature.
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -35,12 +35,12 @@ void random_velocities(Body& body, std::mt19937& rng) {
   for (Vec3& v : body.velocity) v = Vec3(u(rng), u(rng), body.dimension == 3 ? u(rng) : 0.0);
 }
 
-// Evaluates the tetrahedra in vector lanes (where the build has them) or one by one (the loop of
-// builds without them) while in scope.
+// Evaluates the triangles and tetrahedra in vector lanes (where the build has them) or one by one
+// (the loops of builds without them) while in scope.
 struct LanesGuard {
-  bool saved = ckpd::current_stiffness_detail::tetrahedra_in_lanes;
-  explicit LanesGuard(bool lanes) { ckpd::current_stiffness_detail::tetrahedra_in_lanes = lanes; }
-  ~LanesGuard() { ckpd::current_stiffness_detail::tetrahedra_in_lanes = saved; }
+  bool saved = ckpd::current_stiffness_detail::sets_in_lanes;
+  explicit LanesGuard(bool lanes) { ckpd::current_stiffness_detail::sets_in_lanes = lanes; }
+  ~LanesGuard() { ckpd::current_stiffness_detail::sets_in_lanes = saved; }
 };
 
 // A set's volume is computed from its lowest vertex here and from each vertex in the plain
