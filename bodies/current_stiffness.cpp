@@ -471,6 +471,21 @@ inline void vertex_terms(vi active, vd cc, vd inverse_norm, vd gx, vd gy, vd gz,
   t.iso = active ? s6face : zero;
   if (with_shrink) t.shrink = active ? set_shrink : splat(std::numeric_limits<double>::infinity());
 }
+// Adds the lanes' terms to slots s, s + 1, ... (one slot per lane): the tetrahedra's sums or,
+// with `pairs`, the triangles'.
+inline void add_to_slots(const VertexTerms& t, SlotSums& sums, std::size_t s, bool with_shrink,
+                         bool pairs) {
+  for (int e = 0; e < 6; ++e) {
+    double* q = pairs ? &sums.q2_at(s, e) : &sums.q3_at(s, e);
+    storev(q, loadv<vd>(q) + t.q[e]);
+  }
+  double* iso = pairs ? &sums.iso2[s] : &sums.iso3[s];
+  storev(iso, loadv<vd>(iso) + t.iso);
+  if (with_shrink) {
+    const vd old = loadv<vd>(&sums.shrink[s]);
+    storev(&sums.shrink[s], t.shrink < old ? t.shrink : old);
+  }
+}
 inline void accumulate(TermLanes& acc, const VertexTerms& t, bool with_shrink) {
   for (int e = 0; e < 6; ++e) acc.q[e] += t.q[e];
   acc.iso += t.iso;
@@ -636,16 +651,7 @@ void add_tetrahedra_lanes(const Model& model, const Body& body, const UpperFamil
         // Slots 1 + c0, ..., one vector per entry.
         vertex_terms(lanes_of(act[3]), cc, i3, glx, gly, glz, s6 * face3, set_shrink, with_shrink,
                      t);
-        const std::size_t s = 1 + c0;
-        for (int e = 0; e < 6; ++e) {
-          double* q = &sums.q3_at(s, e);
-          storev(q, loadv<vd>(q) + t.q[e]);
-        }
-        storev(&sums.iso3[s], loadv<vd>(&sums.iso3[s]) + t.iso);
-        if (with_shrink) {
-          const vd old = loadv<vd>(&sums.shrink[s]);
-          storev(&sums.shrink[s], t.shrink < old ? t.shrink : old);
-        }
+        add_to_slots(t, sums, 1 + c0, with_shrink, false);
       }
     }
   }
@@ -757,16 +763,7 @@ void add_triangles_lanes(const Model& model, const Body& body, const UpperFamily
       if (act[2]) {
         // Slots 1 + b0, ..., one vector per entry.
         vertex(act[2], la, g2x, g2y, g2z);
-        const std::size_t sb = 1 + b0;
-        for (int e = 0; e < 6; ++e) {
-          double* q = &sums.q2_at(sb, e);
-          storev(q, loadv<vd>(q) + t.q[e]);
-        }
-        storev(&sums.iso2[sb], loadv<vd>(&sums.iso2[sb]) + t.iso);
-        if (with_shrink) {
-          const vd old = loadv<vd>(&sums.shrink[sb]);
-          storev(&sums.shrink[sb], t.shrink < old ? t.shrink : old);
-        }
+        add_to_slots(t, sums, 1 + b0, with_shrink, true);
       }
     }
   }
