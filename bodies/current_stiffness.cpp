@@ -410,7 +410,8 @@ inline symmetric::batch::Vec<4>::d lanes_sqrt(symmetric::batch::Vec<4>::d v) {
 #if defined(__AVX512F__)
 inline symmetric::batch::Vec<8>::d lanes_sqrt(symmetric::batch::Vec<8>::d v) {
   using V = symmetric::batch::Vec<8>::d;
-  return reinterpret_cast<V>(_mm512_sqrt_pd(reinterpret_cast<__m512d>(v)));
+  // maskz with every lane: the unmasked form trips GCC 12's -Wmaybe-uninitialized.
+  return reinterpret_cast<V>(_mm512_maskz_sqrt_pd(0xFF, reinterpret_cast<__m512d>(v)));
 }
 #endif
 // Lane l all ones where bit l of `mask` is set.
