@@ -378,12 +378,12 @@ void add_tetrahedra_scalar(const Model& model, const Body& body, const UpperFami
 // lanes"): the slots c of one aligned block of kLanes slots, masked to those adjacent to a and
 // b, so that every load is a plain vector load from the pair table. The centre's, a's and b's
 // terms are summed lane by lane in their slots' TermLanes, reduced across the lanes once per
-// centre (summing across the lanes per pair cost 12 % of the bound); the slots c receive theirs as
-// vectors. Each lane computes what add_tetrahedra_scalar
-// computes for its set but for three divisions: r = |v| (1 / V) and 6 (1 / V) share one, and
-// f = cc / |g| multiplies by the pair table's 1 / |g| (the bound differs by rounding, a few
-// ulps). The measure's tangent is m = -1/2's rational form in vectors, any other m lane by lane
-// (the logarithm of m = 0). The order of the sums over the sets differs from the scalar loop's.
+// centre (summing across the lanes per pair cost 12 % of the bound); the slots c receive theirs
+// as vectors. Each lane computes what add_tetrahedra_scalar computes for its set but for three
+// divisions: r = |v| (1 / V) and 6 (1 / V) share one, and f = cc / |g| multiplies by the pair
+// table's 1 / |g| (the bound differs by rounding, a few ulps). The measure's tangent is m =
+// -1/2's rational form in vectors, m = 0's log by Highway where the build has it, any other m
+// lane by lane. The order of the sums over the sets differs from the scalar loop's.
 namespace lanes {
 
 using vd = symmetric::batch::Vec<kLanes>::d;
@@ -399,33 +399,15 @@ inline vd load(const std::vector<double>& v, std::size_t at) {
 inline vd splat(double x) {
   return splatv<vd>(x);
 }
-inline vd vabs(vd v) {
-  return v < 0 ? -v : v;
-}
-// The square root of every lane (correctly rounded, as std::sqrt).
-inline symmetric::batch::Vec<4>::d lanes_sqrt(symmetric::batch::Vec<4>::d v) {
-  using V = symmetric::batch::Vec<4>::d;
-  return reinterpret_cast<V>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(v)));
-}
-#if defined(__AVX512F__)
-inline symmetric::batch::Vec<8>::d lanes_sqrt(symmetric::batch::Vec<8>::d v) {
-  using V = symmetric::batch::Vec<8>::d;
-  // maskz with every lane: the unmasked form trips GCC 12's -Wmaybe-uninitialized.
-  return reinterpret_cast<V>(_mm512_maskz_sqrt_pd(0xFF, reinterpret_cast<__m512d>(v)));
-}
-#endif
-// Lane l all ones where bit l of `mask` is set.
+using symmetric::batch::lanes_sqrt;
 inline vi lanes_of(unsigned mask) {
-  vi bit;
-  for (int l = 0; l < kLanes; ++l) bit[l] = std::int64_t{1} << l;
-  return ((vi{} + static_cast<std::int64_t>(mask)) & bit) != 0;
+  return symmetric::batch::lanes<vi>(mask);
+}
+inline vd vabs(vd v) {
+  return symmetric::batch::abs(v);
 }
 inline double lane_sum(vd v) {
-  alignas(8 * kLanes) double x[kLanes];
-  storev(x, v);
-  double s = 0;
-  for (int l = 0; l < kLanes; ++l) s += x[l];
-  return s;
+  return symmetric::batch::sum(v);
 }
 inline double lane_min(vd v) {
   alignas(8 * kLanes) double x[kLanes];

@@ -118,11 +118,13 @@ inline void store(double* p, d4 v) {
 inline d4 splat(double x) {
   return splatv<d4>(x);
 }
-// Lane l is all ones where bit l of `bits` is set.
-inline i4 lanes(unsigned bits) {
-  i4 bit;
-  for (int l = 0; l < kW; ++l) bit[l] = std::int64_t{1} << l;
-  return ((i4{} + static_cast<std::int64_t>(bits)) & bit) != 0;
+// Lane l is all ones where bit l of `bits` is set (I: i4 or Vec<8>::i).
+template <class I = i4>
+inline I lanes(unsigned bits) {
+  I bit;
+  for (int l = 0; l < static_cast<int>(sizeof(I) / sizeof(std::int64_t)); ++l)
+    bit[l] = std::int64_t{1} << l;
+  return ((I{} + static_cast<std::int64_t>(bits)) & bit) != 0;
 }
 // The lanes of a mask as bits.
 inline unsigned bits(i4 mask) {
@@ -141,6 +143,16 @@ inline double sum(d4 v) {
 #if defined(__AVX512F__)
 inline double sum(Vec<8>::d v) {
   return ((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7]));
+}
+#endif
+// The square root of every lane (correctly rounded, as std::sqrt).
+inline d4 lanes_sqrt(d4 v) {
+  return reinterpret_cast<d4>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(v)));
+}
+#if defined(__AVX512F__)
+inline Vec<8>::d lanes_sqrt(Vec<8>::d v) {
+  // maskz with every lane: the unmasked form trips GCC 12's -Wmaybe-uninitialized.
+  return reinterpret_cast<Vec<8>::d>(_mm512_maskz_sqrt_pd(0xFF, reinterpret_cast<__m512d>(v)));
 }
 #endif
 template <class V>
@@ -206,12 +218,7 @@ inline void seth_hill_lanes(const Strain& law, V d, unsigned use, V& factor, V& 
   }
 #if defined(CKPD_HAVE_HIGHWAY)
   {
-    alignas(sizeof(V)) std::int64_t bit[N];
-    for (int l = 0; l < N; ++l) bit[l] = std::int64_t{1} << l;
-    using I = decltype(d < d);
-    I lane_bit;
-    std::memcpy(&lane_bit, bit, sizeof lane_bit);
-    const I in_use = ((I{} + static_cast<std::int64_t>(use)) & lane_bit) != 0;
+    const auto in_use = lanes<decltype(d < d)>(use);
     // Lanes outside `use` compute from d = 0 (no log of a negative argument there).
     const V du = in_use ? d : splatv<V>(0.0);
     const V lr = log1p_lanes(du);

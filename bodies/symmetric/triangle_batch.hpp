@@ -128,13 +128,6 @@ inline const FullPairs& full_pairs(const Context<Model>& ctx, SymmetricKernelThr
   return full;
 }
 
-#if defined(CKPD_BATCHED_TETRAHEDRA)
-// The square root of every lane (correctly rounded, as std::sqrt).
-inline batch::d4 lanes_sqrt(batch::d4 v) {
-  return reinterpret_cast<batch::d4>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(v)));
-}
-#endif
-
 template <class Model, bool kEnergy, bool kPenalty, bool kStencil>
 inline void triangle_batch_point(const Context<Model>& ctx, SymmetricKernelThread& t,
                                  Centre& centre) {
@@ -269,14 +262,14 @@ inline void triangle_batch_point(const Context<Model>& ctx, SymmetricKernelThrea
       for (std::size_t p = 0; p < np; p += batch::kW) {
         const d4 Pax = load(pax + p), Pay = load(pay + p), Pbx = load(pbx + p), Pby = load(pby + p);
         const d4 pz = Pax * Pby - Pay * Pbx;
-        const d4 an = lanes_sqrt(pz * pz);
+        const d4 an = batch::lanes_sqrt(pz * pz);
         d4 rz, M;  // stencil: M = 1 / A; general: M = A
         if constexpr (kStencil) {
           rz = load(ref_z + p);
           M = load(ref + p);
         } else {
           rz = load(ref + p);
-          M = lanes_sqrt(rz * rz);
+          M = batch::lanes_sqrt(rz * rz);
           store(area + p, M);
         }
         i4 inverted = i4{};
