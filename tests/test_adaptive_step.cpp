@@ -6,6 +6,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -195,4 +197,49 @@ TEST_CASE("time.step_mode other than fixed or adaptive is refused with its line"
   REQUIRE(run_case(bar("steps: 2"), a).exit_code == 3);  // the guard stops both alike
   REQUIRE(run_case(bar("steps: 2, step_mode: fixed"), b).exit_code == 3);
   CHECK(lines(a / "out" / "history.csv") == lines(b / "out" / "history.csv"));
+}
+
+TEST_CASE("a run whose adaptive step falls below time.smallest_step stops, naming the point",
+          "[adaptive_step][stability]") {
+  // The bar's step falls from 0.07 dt at the first step to below 1e-4 dt; a floor at 0.01 dt
+  // stops the run at the step that would go below it, with what was written kept.
+  const auto free_dir = fresh_dir("adaptive-floor-free");
+  REQUIRE(run_case(bar("end: 1.0e-5, step_mode: adaptive"), free_dir).exit_code == 0);
+  const auto free = read_json(free_dir / "out" / "summary.json");
+  const double dt = free["dt"].get<double>();
+  REQUIRE(free["adaptive_step"]["smallest_step"].get<double>() < 0.01 * dt);
+  std::ostringstream floor;
+  floor << std::setprecision(17) << 0.01 * dt;
+
+  const auto dir = fresh_dir("adaptive-floor");
+  const CommandResult r =
+      run_case(bar("end: 1.0e-5, step_mode: adaptive, smallest_step: " + floor.str()), dir);
+  INFO(r.output);
+  CHECK(r.exit_code == 3);
+  CHECK(r.output.find("step collapse at step") != std::string::npos);
+  CHECK(r.output.find("below time.smallest_step") != std::string::npos);
+  CHECK(r.output.find("body 'bar'") != std::string::npos);
+  CHECK(r.output.find("at point") != std::string::npos);
+  const auto s = read_json(dir / "out" / "summary.json");
+  CHECK(s["status"] == "unstable");
+  CHECK(s["time"].get<double>() < 1.0e-5);
+  // Every step taken was at or above the floor.
+  CHECK(s["adaptive_step"]["smallest_step"].get<double>() >= 0.01 * dt);
+  CHECK(s["steps"].get<long long>() > 1);
+  CHECK(lines(dir / "out" / "history.csv").size() > 1);
+}
+
+TEST_CASE("time.smallest_step is refused with its line unless positive and adaptive",
+          "[adaptive_step]") {
+  for (const char* bad :
+       {"step_mode: adaptive, smallest_step: 0", "step_mode: adaptive, smallest_step: -1e-9",
+        "step_mode: adaptive, smallest_step: tiny", "smallest_step: 1e-12"}) {
+    const auto dir = fresh_dir("adaptive-floor-bad");
+    const CommandResult r = run_case(bar("end: 1.0e-5, " + std::string(bad)), dir);
+    INFO(bad << ": " << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("case.yaml:12") != std::string::npos);
+    CHECK(r.output.find("time.smallest_step") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(dir / "out" / "summary.json"));
+  }
 }

@@ -376,6 +376,11 @@ TimeSettings read_time(const CaseNode& t) {
           "fixed (dt for the whole run) or adaptive (the step follows the stable step at the "
           "current state, never above dt)");
   }
+  if (auto f = t.optional("smallest_step")) {
+    s.smallest_step = f->as_positive();
+    if (!s.adaptive_step)
+      f->fail("only with step_mode: adaptive (a fixed step never falls; the guard stops the run)");
+  }
   t.finish();
   return s;
 }

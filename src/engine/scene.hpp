@@ -48,6 +48,9 @@ struct TimeSettings {
   // step at the current state) for bodies whose measure stiffens in compression (Seth-Hill
   // m <= 0); `step_mode: fixed` (the default): dt for the whole run, with the current-state guard.
   bool adaptive_step = false;
+  // Adaptive only: the run stops (as unstable, naming the body and point) when the next step
+  // would fall below this; 0: 1e-12 x dt, a step that no run completes with (time.smallest_step).
+  double smallest_step = 0;
 };
 
 // A history column group chosen in the case (`output: {history: [...]}`), computed by

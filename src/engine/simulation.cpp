@@ -403,7 +403,26 @@ void Simulation::plan_next_step(const CurrentStep& now) {
   // one to rounding).
   const double bound = std::min(scene_.time.safety * now.dt, now.kinematic);
   next_choice_ = bound < step_choice_.dt * (1 - 1e-12) ? bound : step_choice_.dt;
+  const double floor = scene_.time.smallest_step > 0 ? scene_.time.smallest_step
+                                                     : kSmallestStepFraction * step_choice_.dt;
+  // (From the second step on: the run has begun, its output with it.)
+  if (next_choice_ < floor && step_ > 0) report_step_collapse(now, floor);
   clip_next_step();
+}
+
+void Simulation::report_step_collapse(const CurrentStep& now, double floor) const {
+  const Body& b = scene_.bodies[now.body].body;
+  std::ostringstream msg;
+  msg << "step collapse at step " << step_ << ", t = " << time_ << " s: the adaptive step fell to "
+      << next_choice_ << " s, below time.smallest_step = " << floor << " s";
+  if (!(scene_.time.smallest_step > 0)) msg << " (the default, 1e-12 x dt)";
+  msg << "; body '" << b.name << "' has a stable step of " << now.dt << " s at point " << now.point
+      << " (reference " << format_position(b.reference_position[now.point], b.dimension)
+      << "), the kinematic limit is " << now.kinematic
+      << " s: a bond or set is closing and the step follows it down, so the run would not reach "
+         "its end (docs/STABILITY.md: with m = 0 a set can close to the rounding of its volume; "
+         "m = -1/2 stops it at a finite ratio)";
+  throw InstabilityError(msg.str());
 }
 
 void Simulation::clip_next_step() {

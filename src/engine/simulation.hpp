@@ -241,6 +241,10 @@ class Simulation {
   // Adaptive step: the size of the next step from the current stable step, clipped so that a
   // run to time.end lands on it; updates planned_steps_.
   void plan_next_step(const CurrentStep& now);
+  // Throws InstabilityError: the next step falls below time.smallest_step (floor).
+  [[noreturn]] void report_step_collapse(const CurrentStep& now, double floor) const;
+  // time.smallest_step's default, a fraction of dt: 1e12 steps per dt are no run.
+  static constexpr double kSmallestStepFraction = 1e-12;
   void clip_next_step();  // next_dt_ and planned_steps_ from next_choice_ and the time left
 
   Scene& scene_;
