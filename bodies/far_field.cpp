@@ -13,14 +13,6 @@ FarField make_far_field(const Body& body, double tolerance, bool corotated) {
   ff.exact.assign(n, 0);
   ff.row_failed.assign(n, 0);
   ff.skip.assign(n, 0);
-  ff.upper_begin.resize(n);
-  for (std::size_t i = 0; i < n; ++i)
-    ff.upper_begin[i] = static_cast<std::size_t>(
-        std::upper_bound(
-            body.family.neighbour.begin() + static_cast<std::ptrdiff_t>(body.family.offset[i]),
-            body.family.neighbour.begin() + static_cast<std::ptrdiff_t>(body.family.offset[i + 1]),
-            static_cast<std::uint32_t>(i)) -
-        body.family.neighbour.begin());
   ff.corotated = corotated;
   if (!corotated) return ff;
   ff.shape_inverse.assign(n, Eigen::Matrix3d::Zero());
@@ -86,30 +78,6 @@ double corotated_screen(const Body& body, FarField& ff, std::size_t i) {
   return worst;
 }
 
-static_assert(sizeof(Vec3) == 3 * sizeof(double), "positions read as plain doubles");
-
-// max_j |u^j - u^i|^2 / L^2 < T2 over i's family, as one vectorisable pass: the offsets
-// gathered from the positions as plain doubles, the quotients compared lane by lane and the
-// answers OR-ed (no running maximum to chain the iterations).
-bool strain_below(const Body& body, std::size_t i, double T2) {
-  const std::size_t* offset = body.family.offset.data();
-  const std::uint32_t* __restrict nb = body.family.neighbour.data();
-  const double* __restrict X = body.reference_position.front().data();
-  const double* __restrict u = body.displacement.front().data();
-  const double xi = X[3 * i], yi = X[3 * i + 1], zi = X[3 * i + 2];
-  const double ui = u[3 * i], vi = u[3 * i + 1], wi = u[3 * i + 2];
-  std::uint32_t over = 0;
-#pragma omp simd reduction(| : over)
-  for (std::size_t k = offset[i]; k < offset[i + 1]; ++k) {
-    const std::size_t j = 3 * static_cast<std::size_t>(nb[k]);
-    const double dx = X[j] - xi, dy = X[j + 1] - yi, dz = X[j + 2] - zi;
-    const double du = u[j] - ui, dv = u[j + 1] - vi, dw = u[j + 2] - wi;
-    const double L2 = dx * dx + dy * dy + dz * dz;
-    over |= (du * du + dv * dv + dw * dw) / L2 < T2 ? 0u : 1u;
-  }
-  return over == 0;
-}
-
 }  // namespace
 
 void classify_far_field(const Body& body, FarField& ff) {
@@ -125,17 +93,23 @@ void classify_far_field(const Body& body, FarField& ff) {
     // A failed bond anywhere in i's row; and i's own strain screen, booked at once.
 #pragma omp for schedule(static)
     for (std::size_t i = 0; i < n; ++i) {
-      std::uint8_t intact_all = 1;  // an AND over the row: a vector reduction, no branch
+      std::uint8_t failed = 0;
       if (intact != nullptr)
-        for (std::size_t k = offset[i]; k < offset[i + 1]; ++k) intact_all &= intact[k] != 0;
-      const std::uint8_t failed = intact_all == 0;
+        for (std::size_t k = offset[i]; k < offset[i + 1]; ++k) failed |= intact[k] == 0;
       ff.row_failed[i] = failed;
       if (ff.exact[i] || failed || !moved) continue;
       if (ff.corotated) {
         if (!(corotated_screen(body, ff, i) < T * T)) ff.exact[i] = 1;
         continue;
       }
-      if (!strain_below(body, i, T * T)) ff.exact[i] = 1;
+      const Vec3 Xi = body.reference_position[i], ui = body.displacement[i];
+      double worst = 0;  // max_j |u^j - u^i|^2 / L^2
+      for (std::size_t k = offset[i]; k < offset[i + 1]; ++k) {
+        const std::uint32_t j = nb[k];
+        const double L2 = (body.reference_position[j] - Xi).squaredNorm();
+        worst = std::max(worst, (body.displacement[j] - ui).squaredNorm() / L2);
+      }
+      if (!(worst < T * T)) ff.exact[i] = 1;
     }
     // A failed bond with both ends in {i} and i's family makes i exact. Row i of the operator
     // is built from the sets that hold i, and every edge of such a set is a bond between two
@@ -156,16 +130,17 @@ void classify_far_field(const Body& body, FarField& ff) {
       }
       if (failed) ff.exact[i] = 1;
     }
-    // Centre i is skipped when i and every upper neighbour (j > i) are linear: an OR of the
-    // upper neighbours' flags, branch-free (most points are linear with every neighbour linear:
-    // an early exit would rarely be taken).
-    const std::uint8_t* exact = ff.exact.data();
+    // Centre i is skipped when i and every upper neighbour (j > i) are linear.
 #pragma omp for schedule(static) reduction(+ : exact_count)
     for (std::size_t i = 0; i < n; ++i) {
-      exact_count += exact[i];
-      std::uint32_t any = exact[i];
-      for (std::size_t k = ff.upper_begin[i]; k < offset[i + 1]; ++k) any |= exact[nb[k]];
-      ff.skip[i] = any == 0;
+      std::uint8_t any = ff.exact[i];
+      exact_count += any;
+      const std::uint32_t* end = nb + offset[i + 1];
+      for (const std::uint32_t* p =
+               std::upper_bound(nb + offset[i], end, static_cast<std::uint32_t>(i));
+           p < end && !any; ++p)
+        any = ff.exact[*p];
+      ff.skip[i] = !any;
     }
   }
   ff.exact_count = exact_count;

@@ -34,7 +34,6 @@ struct FarField {
   // Per point: 1 exact (for good), 0 linear; skip: centre i and all its upper neighbours are
   // linear (the symmetric kernel enumerates nothing from i that an exact point needs).
   std::vector<std::uint8_t> exact, row_failed, skip;
-  std::vector<std::size_t> upper_begin;  // per point, where its upper neighbours (j > i) begin
   std::size_t exact_count = 0;
   // Leave out the sets of processed centres that have no exact vertex (the exact rows are the
   // same bit for bit either way; false: every set, for the tests that compare).
