@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -122,5 +123,39 @@ TEST_CASE("failure booking equals the drop of the whole body's strain energy", "
           CHECK(updates[1].failed == updates[0].failed);
           CHECK(updates[1].dissipated == updates[0].dissipated);  // bit for bit
         }
+  }
+}
+
+TEST_CASE("the damage step fails exactly the bonds over the critical stretch, at its rounding",
+          "[damage]") {
+  // The damage step passes over bonds whose squared length is clearly below the critical one
+  // (bond_failure.hpp, stretch_screen) before the exact test. With the critical stretch set to
+  // a bond's own computed stretch, or one rounding step below it, the bonds that fail are
+  // still those the exact test alone fails (update_bond_failure): that bond only in the second.
+  using namespace kernel_comparison;
+  std::mt19937 rng(5);
+  const Scene s{"3D lattice", 3, 0.3, 0.0, 6, 6, 5};
+  Body body =
+      ckpd::make_body(block(s.dimension, s.nx, s.ny, s.nz, constants_for(s), s.jitter, rng, s.m));
+  perturb(body, 0.04, rng);
+  const double sc = stretch_failing_about(body, 5);
+  // The smallest computed stretch above sc: the bond that sits on the threshold.
+  double edge = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < body.size(); ++i)
+    for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
+      const std::uint32_t j = body.family.neighbour[k];
+      const double st = ckpd::bond_stretch(body.reference_position[j] - body.reference_position[i],
+                                           body.displacement[j] - body.displacement[i]);
+      if (st > sc) edge = std::min(edge, st);
+    }
+  for (const double critical : {edge, std::nextafter(edge, 0.0)}) {
+    Body decided = body, stepped = body;
+    decided.critical_stretch = stepped.critical_stretch = critical;
+    const std::size_t expected = ckpd::update_bond_failure(decided);
+    const ckpd::FailureUpdate update = ckpd::fail_overstretched_bonds(stepped, 0.0);
+    INFO("critical stretch " << critical << " (edge " << edge << ")");
+    CHECK(update.failed == expected);
+    CHECK(stepped.bond_intact == decided.bond_intact);
+    CHECK(expected == (critical == edge ? 4u : 5u));
   }
 }
