@@ -143,3 +143,26 @@ TEST_CASE("far_field on a state-based body is refused: it has no linearisation",
   CHECK(r.output.find("bodies[0].far_field") != std::string::npos);
   CHECK(r.output.find("linearisation") != std::string::npos);
 }
+
+TEST_CASE("summary.json counts the sets each kernel evaluated: fewer with the far field",
+          "[far_field]") {
+  const auto a = fresh_dir("ff-count-exact"), b = fresh_dir("ff-count-zero"),
+             c = fresh_dir("ff-count-on");
+  REQUIRE(run_case(with_key(""), a).exit_code == 0);
+  REQUIRE(run_case(with_key("far_field: {tolerance: 0}"), b).exit_code == 0);
+  REQUIRE(run_case(with_key("far_field: {tolerance: 1e-3}"), c).exit_code == 0);
+  const auto exact = read_json(a / "out" / "summary.json")["bodies"][0]["evaluated"];
+  const auto zero = read_json(b / "out" / "summary.json")["bodies"][0]["evaluated"];
+  const auto on = read_json(c / "out" / "summary.json")["bodies"][0]["evaluated"];
+  INFO(exact.dump() << " " << zero.dump() << " " << on.dump());
+  CHECK(exact == zero);
+  // 2D: bonds and triangles; the plate's 31 evaluations (the start and 30 steps) each hold at
+  // least one evaluation of its intact bonds.
+  CHECK(exact["tetrahedra"] == 0);
+  CHECK(exact["bonds"].get<double>() > 31 * 1000.0);
+  CHECK(exact["triangles"].get<double>() > exact["bonds"].get<double>());
+  // The linear points' sets are left out: less work, not more.
+  CHECK(on["bonds"].get<double>() < exact["bonds"].get<double>());
+  CHECK(on["triangles"].get<double>() < exact["triangles"].get<double>());
+  CHECK(on["triangles"].get<double>() > 0);  // the precrack's families stay exact
+}

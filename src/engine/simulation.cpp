@@ -256,6 +256,9 @@ Simulation::Simulation(Scene& scene, std::unique_ptr<Distribution> distribution)
     contact_radius_[p.b] = std::min(contact_radius_[p.b], p.radius);
   }
   inverted_.assign(scene_.bodies.size(), 0);
+  evaluated_.assign(scene_.bodies.size(), {});
+  step_evaluated_.assign(scene_.bodies.size(), {});
+  books_.evaluated.assign(scene_.bodies.size(), {});
   if (!distribution_)
     contact_ = make_contact_manager(scene_);
   else if (has_contact_work(scene_))
@@ -311,6 +314,11 @@ void Simulation::evaluate_forces(bool with_energy) {
     dissipated[index] = failure.dissipated;
     failed_[index] += failure.failed;
     if (with_energy) inverted_[index] = stats.inverted_tetrahedra + stats.inverted_triangles;
+    step_evaluated_[index] = {stats.bonds, stats.triangles, stats.tetrahedra};
+    Evaluated& total = evaluated_[index];
+    total.bonds += stats.bonds;
+    total.triangles += stats.triangles;
+    total.tetrahedra += stats.tetrahedra;
     // A body whose force work is shared over ranks has this rank's part only: it is completed
     // after the sum over ranks below.
     if (!shares_force_work(b)) add_loads_and_energy(index);
@@ -597,6 +605,14 @@ void Simulation::reduce_books(bool with_energy) {
   const std::size_t failed_at = v.size(), inverted_at = failed_at + bodies;
   for (std::size_t k = 0; k < bodies; ++k) v.push_back(static_cast<double>(failed_[k]));
   for (std::size_t k = 0; k < bodies; ++k) v.push_back(static_cast<double>(inverted_[k]));
+  // This step's counts (below 2^53 each: summed exactly), added to the books below.
+  const std::size_t evaluated_at = v.size();
+  for (std::size_t k = 0; k < bodies; ++k) {
+    v.push_back(static_cast<double>(step_evaluated_[k].bonds));
+    v.push_back(static_cast<double>(step_evaluated_[k].triangles));
+    v.push_back(static_cast<double>(step_evaluated_[k].tetrahedra));
+    step_evaluated_[k] = {};
+  }
   // The largest damage of this rank's booked points: a max over ranks, not a sum.
   double damage = 0;
   for (const SceneBody& sb : scene_.bodies)
@@ -619,6 +635,12 @@ void Simulation::reduce_books(bool with_energy) {
   books_.failed.resize(bodies);
   for (std::size_t k = 0; k < bodies; ++k)
     books_.failed[k] = static_cast<std::size_t>(v[failed_at + k]);
+  for (std::size_t k = 0; k < bodies; ++k) {
+    Evaluated& e = books_.evaluated[k];
+    e.bonds += static_cast<std::uint64_t>(v[evaluated_at + 3 * k]);
+    e.triangles += static_cast<std::uint64_t>(v[evaluated_at + 3 * k + 1]);
+    e.tetrahedra += static_cast<std::uint64_t>(v[evaluated_at + 3 * k + 2]);
+  }
   if (!with_energy) return;
   books_.strain = v[2];
   books_.inverted.resize(bodies);

@@ -175,6 +175,15 @@ class Simulation {
   // energy: all bodies, or body b; the largest total seen; and the first sighting.
   std::uint64_t inverted() const;
   std::uint64_t inverted(std::size_t body) const { return inverted_[body]; }
+  // The bonds, triangles and tetrahedra body b's kernel evaluated (each set once, not per
+  // vertex), summed over this process's force evaluations (a restarted run counts from its
+  // restart) and over the ranks: the work done, which a far field cuts where it leaves sets out.
+  struct Evaluated {
+    std::uint64_t bonds = 0, triangles = 0, tetrahedra = 0;
+  };
+  const Evaluated& evaluated(std::size_t body) const {
+    return distribution_ ? books_.evaluated[body] : evaluated_[body];
+  }
   std::uint64_t max_inverted() const { return max_inverted_; }
   const InversionRecord& first_inversion() const { return first_inversion_; }
   double speed_limit() const { return speed_limit_; }
@@ -297,7 +306,9 @@ class Simulation {
     std::uint64_t contact_pairs = 0, contact_pairs_peak = 0;  // point pairs in contact, all ranks
     std::vector<std::uint64_t> inverted;
     std::vector<std::size_t> failed;
+    std::vector<Evaluated> evaluated;
   } books_;
+  std::vector<Evaluated> evaluated_, step_evaluated_;  // this rank's: all steps, the last one
   std::vector<std::size_t> failed_;
   std::vector<double> book_values_;
   Scene* whole_ = nullptr;

@@ -145,6 +145,11 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
          {"beta", beta_summary(b)},
          {"inversion_penalty", b.inversion_penalty},
          {"inverted", sim.inverted(index)},
+         // Each set once, over this process's force evaluations (Simulation::evaluated).
+         {"evaluated",
+          {{"bonds", sim.evaluated(index).bonds},
+           {"triangles", sim.evaluated(index).triangles},
+           {"tetrahedra", sim.evaluated(index).tetrahedra}}},
          // Connected components of intact bonds; single points count.
          {"fragments", fragments.count()},
          {"largest_fragments", sizes}});

@@ -59,6 +59,12 @@ TEST_CASE("a distributed run of a breaking bar and a flying bead is the single-p
     CHECK(close(a.dissipated, b.dissipated, scale));
     CHECK(single.broken_bonds() == run.broken_bonds());
     CHECK(close(single.max_damage(), run.max_damage(), 1));
+    // The kernels' work, each set once over the ranks: the single run's counts.
+    for (std::size_t k = 0; k < single_scene.bodies.size(); ++k) {
+      CHECK(single.evaluated(k).bonds == run.evaluated(k).bonds);
+      CHECK(single.evaluated(k).triangles == run.evaluated(k).triangles);
+      CHECK(single.evaluated(k).tetrahedra == run.evaluated(k).tetrahedra);
+    }
   }
   CHECK(rows == 12);
   INFO("broken bonds " << single.broken_bonds());
