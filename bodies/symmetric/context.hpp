@@ -363,11 +363,10 @@ inline void build_csr_rows(const ContextBase& ctx, SymmetricKernelThread& t,
     // (row_failed); a row with some is scanned for them.
     std::copy_n(row != nullptr ? row : &t.adj[a * W], W, irow);
     if (intact == nullptr || (ctx.row_failed != nullptr && ctx.row_failed[j] == 0)) continue;
-    // The failed entries of the row, eight flags at a time (a word's zero bytes, exactly), not
-    // the upper part of the row searched for and scanned flag by flag (binary searches that
-    // mispredicted: a third of this function's time on a far-field sphere-disc run, perf). Only
-    // the upper entries count (points after j, as the rows hold them); points that are no slot
-    // of i have slot_of zero.
+    // The failed entries of the row, eight flags at a time (a word's zero bytes, exactly), with
+    // no binary search for the row's upper part. Only the upper entries count (points after j,
+    // as the rows hold them); points that are no slot of i have slot_of zero. (Most of this
+    // function's time is in the failed entries themselves: rows in a hole's damage hold many.)
     const std::size_t begin = ctx.offset[j], end = ctx.offset[j + 1];
     auto clear = [&](std::size_t k) {
       const std::uint32_t x = nb[k];
