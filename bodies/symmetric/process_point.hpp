@@ -27,27 +27,23 @@ inline void pair_loop(const Context<Model>& ctx, SymmetricKernelThread& t, Centr
   const std::size_t W = t.words;
   const std::uint64_t* own = t.own.data();
   const std::uint64_t* exact_slots = t.linear_centre ? t.exact_slots.data() : nullptr;
-  // Some word of `row` (from word `from` on) shares an exact slot.
-  auto meets_exact = [&](const std::uint64_t* row, std::size_t from) {
-    for (std::size_t w = from; w < W; ++w)
-      if (row[w] & exact_slots[w]) return true;
-    return false;
-  };
+  if (exact_slots != nullptr && rows) mark_exact_reach(t);
   for (std::size_t n = 0; n < count && rows; ++n) {
     Pair pr;
     const std::size_t a = list[n];
     pr.a = a;
     pr.ra = &t.adj[a * W];
-    // Far-field masking, i and a linear: every set on (a, b) holds b and its c in row a, so
-    // with no exact slot there, nothing on slot a is evaluated.
+    // Far-field masking, i and a linear: only the pairs (a, b) with b in the exact reach hold a
+    // set with an exact vertex (mark_exact_reach); none when a is outside it.
     const bool linear_a = exact_slots != nullptr && !bit(exact_slots, a);
-    if (linear_a && !meets_exact(pr.ra, a >> 6)) continue;
+    if (linear_a && !bit(t.exact_reach.data(), a)) continue;
+    const std::uint64_t* pairs_of_a = linear_a ? reach_row_of(t, a, pr.ra) : pr.ra;
     pr.ia = t.intact_is_adjacency ? pr.ra : &t.adj_intact[a * W];
     const bool own_a = bit(own, a);
     pr.pa[0] = t.rx[a];
     pr.pa[1] = t.ry[a];
     pr.pa[2] = t.rz[a];
-    for_each_pair_of<kStencil>(st, a, pr.ra, W, [&](std::size_t b, std::size_t number) {
+    for_each_pair_of<kStencil>(st, a, pairs_of_a, W, [&](std::size_t b, std::size_t number) {
       pr.only = nullptr;
       if (linear_a && !bit(exact_slots, b)) {
         // i, a, b linear: only tetrahedra with an exact fourth vertex c (in rows a and b).
@@ -109,8 +105,8 @@ inline void pair_loop(const Context<Model>& ctx, SymmetricKernelThread& t, Centr
 // all four vertices, so a pair's candidates are its group words (the stencil's triple row on
 // the present slots, or rows a and b), with no per-vertex masks, flags or scalar sets. Only where
 // nothing else is evaluated per pair: no triangles. The far field's masking of a linear centre
-// as in pair_loop: a linear slot a with no exact slot in its row is left out, and a pair of
-// linear slots keeps only the sets whose fourth vertex is exact.
+// as in pair_loop: a linear slot a visits only its pairs in the exact reach (none outside it),
+// and a pair of linear slots keeps only the sets whose fourth vertex is exact.
 // With `damaged` (a damaged centre under all_edges, its intact rows built): a set is active for
 // all four vertices when its six bonds are intact and for none otherwise, so the same loop
 // serves with the candidates cut to i-c, a-c, b-c intact, for pairs whose i-a, i-b and a-b are:
@@ -127,33 +123,46 @@ inline void intact_pair_loop(const ContextBase& ctx, SymmetricKernelThread& t, s
   const std::uint64_t* own = t.own.data();
   std::uint64_t* words = batch::PairGroup::words(t);
   const std::uint64_t* exact_slots = t.linear_centre ? t.exact_slots.data() : nullptr;
+  if (exact_slots != nullptr) mark_exact_reach(t);
   // Intact rows: the adjacency rows when no bond near i has failed.
   auto intact_row = [&](std::size_t s) {
     return t.intact_is_adjacency ? &t.adj[s * W] : &t.adj_intact[s * W];
   };
+  std::uint64_t* pairs = t.pair_row.data();
+  std::uint64_t* mask = t.pair_mask.data();  // W words for all candidates, W for exact ones
   for (std::size_t n = 0; n < count; ++n) {
     const std::size_t a = list[n];
     if (damaged && !bit(own, a)) continue;  // i-a failed: no set on a is active
     const std::uint64_t* ra = &t.adj[a * W];
     const std::uint64_t* ia = damaged ? intact_row(a) : ra;
     const bool linear_a = exact_slots != nullptr && !bit(exact_slots, a);
-    if (linear_a) {
-      std::uint64_t meets = 0;
-      for (std::size_t w = a >> 6; w < W; ++w) meets |= ra[w] & exact_slots[w];
-      if (meets == 0) continue;
+    if (linear_a && !bit(t.exact_reach.data(), a)) continue;
+    // Slot a's pairs to visit: those in its row with i-b and a-b intact (damaged) and, for a
+    // linear a, with b in the exact reach; and what its pairs' candidates share: the present
+    // slots (stencil) or row a, with i-c and a-c intact (damaged), and for a pair of linear
+    // slots the exact ones. Per pair there remain the triple row (or row b) and b-c intact.
+    const std::uint64_t* shared = kStencil ? present : ra;
+    for (std::size_t w = a >> 6; w < W; ++w) {
+      std::uint64_t p = ra[w], c = shared[w];
+      if (damaged) {
+        p &= own[w] & ia[w];
+        c &= own[w] & ia[w];
+      }
+      if (linear_a) p &= t.exact_reach[w];
+      pairs[w] = p;
+      mask[w] = c;
+      mask[W + w] = exact_slots != nullptr ? c & exact_slots[w] : 0;
     }
-    for_each_pair_of<kStencil>(st, a, ra, W, [&](std::size_t b, std::size_t number) {
-      if (damaged && !(bit(own, b) && bit(ia, b))) return;  // i-b or a-b failed
-      // The pair's candidates: the stencil's triple row on the present slots, or rows a and b.
-      const std::uint64_t* first = kStencil ? &st->triple_row[number * W] : ra;
-      const std::uint64_t* second = kStencil ? present : &t.adj[b * W];
-      const bool only_exact = linear_a && !bit(exact_slots, b);
+    for_each_pair_of<kStencil>(st, a, pairs, W, [&](std::size_t b, std::size_t number) {
+      // The pair's candidates: the stencil's triple row, or row b, on slot a's shared mask.
+      const std::uint64_t* first = kStencil ? &st->triple_row[number * W] : &t.adj[b * W];
+      const std::uint64_t* m = linear_a && !bit(exact_slots, b) ? mask + W : mask;
       std::uint64_t any = 0;
       std::uint64_t* lane = words + static_cast<std::size_t>(group.n);
       const std::uint64_t* ib = damaged ? intact_row(b) : nullptr;
       for (std::size_t wc = b >> 6; wc < W; ++wc) {
-        std::uint64_t cand = first[wc] & second[wc] & (only_exact ? exact_slots[wc] : ~0ull);
-        if (damaged) cand &= own[wc] & ia[wc] & ib[wc];
+        std::uint64_t cand = first[wc] & m[wc];
+        if (damaged) cand &= ib[wc];
         lane[wc * batch::kG] = cand;
         any |= cand;
       }
