@@ -92,6 +92,11 @@ inline void tetrahedra_of_pair(const PairOfTetrahedra& pair, std::size_t first, 
   constexpr std::size_t kLanes = VolumeTetrahedronBlocks::kLanes;
   alignas(64) double acc[45][kLanes] = {};
   for (std::size_t base = first / kLanes * kLanes; base < n; base += kLanes) {
+    // A block with no third of the pair adds zeros only: passed over. The thirds adjacent to
+    // both a and b are a small part of the family, in runs along its rows.
+    bool any = false;
+    for (std::size_t l = 0; l < kLanes; ++l) any |= (base + l >= first) & (third[base + l] != 0.0);
+    if (!any) continue;
 #pragma omp simd
     for (std::size_t l = 0; l < kLanes; ++l) {
       const std::size_t d = base + l;
