@@ -14,7 +14,10 @@ FarField make_far_field(const Body& body, double tolerance, bool corotated) {
   ff.row_failed.assign(n, 0);
   ff.skip.assign(n, 0);
   ff.corotated = corotated;
-  if (!corotated) return ff;
+  if (!corotated) {
+    ff.linear_force.assign(n, Vec3::Zero());  // filled by the classification
+    return ff;
+  }
   ff.shape_inverse.assign(n, Eigen::Matrix3d::Zero());
   ff.rotation.assign(n, Eigen::Matrix3d::Identity());
   for (std::size_t i = 0; i < n; ++i) {
@@ -88,6 +91,7 @@ void classify_far_field(const Body& body, FarField& ff) {
   const bool moved = !body.displacement.empty();
   const double T = ff.tolerance;
   std::size_t exact_count = 0;
+  if (!ff.corotated && moved) ff.linear_force.resize(n);
 #pragma omp parallel
   {
     // A failed bond anywhere in i's row; and i's own strain screen, booked at once.
@@ -102,13 +106,20 @@ void classify_far_field(const Body& body, FarField& ff) {
         if (!(corotated_screen(body, ff, i) < T * T)) ff.exact[i] = 1;
         continue;
       }
+      // The screen, and b^i = K^ii u^i + sum_j K^ij u^j as apply_linear_operator_rows sums it.
       const Vec3 Xi = body.reference_position[i], ui = body.displacement[i];
+      const Eigen::Matrix3d* row = &ff.op.block[ff.op.row[i]];
+      Vec3 b = row[0] * ui;
       double worst = 0;  // max_j |u^j - u^i|^2 / L^2
-      for (std::size_t k = offset[i]; k < offset[i + 1]; ++k) {
+      std::size_t slot = 1;
+      for (std::size_t k = offset[i]; k < offset[i + 1]; ++k, ++slot) {
         const std::uint32_t j = nb[k];
+        const Vec3 uj = body.displacement[j];
         const double L2 = (body.reference_position[j] - Xi).squaredNorm();
-        worst = std::max(worst, (body.displacement[j] - ui).squaredNorm() / L2);
+        worst = std::max(worst, (uj - ui).squaredNorm() / L2);
+        b += row[slot] * uj;
       }
+      ff.linear_force[i] = b;
       if (!(worst < T * T)) ff.exact[i] = 1;
     }
     // A failed bond with both ends in {i} and i's family makes i exact. Row i of the operator
@@ -161,11 +172,17 @@ SymmetricKernelStats compute_internal_force_far_field(Body& body, FarField& ff, 
   }
   workspace.skip_centre = nullptr;
   workspace.exact_point = nullptr;
-  if (ff.corotated)
+  if (ff.corotated) {
     apply_linear_operator_rows_corotated(ff.op, body, ff.exact.data(), ff.rotation,
                                          body.force_density);
-  else
+  } else if (body.displacement.empty()) {
     apply_linear_operator_rows(ff.op, body, ff.exact.data(), body.force_density);
+  } else {
+    const std::size_t n = body.size();
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i)
+      if (!ff.exact[i]) body.force_density[i] = ff.linear_force[i];
+  }
   if (with_energy) {
     const std::size_t n = body.size();
 #pragma omp parallel for schedule(static)

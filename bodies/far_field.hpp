@@ -42,6 +42,10 @@ struct FarField {
   // the plane, with 1 out of it) and, for the linear points, R^i as of the last classification.
   bool corotated = false;
   std::vector<Eigen::Matrix3d> shape_inverse, rotation;
+  // Not corotated: the linear points' b^i, computed by the classification in the same pass over
+  // the family as the screen (both read every member's displacement), for the points the
+  // screen passes; exact points' entries are stale.
+  std::vector<Vec3> linear_force;
   double exact_fraction() const {
     return exact.empty() ? 0.0
                          : static_cast<double>(exact_count) / static_cast<double>(exact.size());
@@ -57,8 +61,9 @@ FarField make_far_field(const Body& body, double tolerance, bool corotated = fal
 // within T of one. False (R untouched) when det F <= 0: an inverted family, never linear.
 bool polar_rotation(const Eigen::Matrix3d& F, Eigen::Matrix3d& R);
 
-// Updates ff.exact (sticky), ff.skip and ff.exact_count (and, corotated, ff.rotation) from the
-// body's bonds and displacements: O(bonds), parallel, no allocation after the first call.
+// Updates ff.exact (sticky), ff.skip and ff.exact_count (and, corotated, ff.rotation; otherwise
+// ff.linear_force of the linear points) from the body's bonds and displacements: O(bonds),
+// parallel, no allocation after the first call.
 void classify_far_field(const Body& body, FarField& ff);
 
 // The body's internal force density (and, with energy, strain energy density) with the far
