@@ -91,7 +91,7 @@ void classify_far_field(const Body& body, FarField& ff) {
   const bool moved = !body.displacement.empty();
   const double T = ff.tolerance;
   std::size_t exact_count = 0;
-  if (!ff.corotated && moved) ff.linear_force.resize(n);
+  if (!ff.corotated) ff.linear_force.resize(n);  // make_far_field sized it: no allocation
 #pragma omp parallel
   {
     // A failed bond anywhere in i's row; and i's own strain screen, booked at once.
@@ -101,12 +101,17 @@ void classify_far_field(const Body& body, FarField& ff) {
       if (intact != nullptr)
         for (std::size_t k = offset[i]; k < offset[i + 1]; ++k) failed |= intact[k] == 0;
       ff.row_failed[i] = failed;
-      if (ff.exact[i] || failed || !moved) continue;
+      if (ff.exact[i] || failed) continue;
+      if (!moved) {  // at the reference state: no strain, and b^i = K 0
+        if (!ff.corotated) ff.linear_force[i] = Vec3::Zero();
+        continue;
+      }
       if (ff.corotated) {
         if (!(corotated_screen(body, ff, i) < T * T)) ff.exact[i] = 1;
         continue;
       }
-      // The screen, and b^i = K^ii u^i + sum_j K^ij u^j as apply_linear_operator_rows sums it.
+      // The screen, and b^i = K^ii u^i + sum_j K^ij u^j summed as apply_linear_operator sums it
+      // (the tests compare the two bit for bit).
       const Vec3 Xi = body.reference_position[i], ui = body.displacement[i];
       const Eigen::Matrix3d* row = &ff.op.block[ff.op.row[i]];
       Vec3 b = row[0] * ui;
@@ -175,8 +180,6 @@ SymmetricKernelStats compute_internal_force_far_field(Body& body, FarField& ff, 
   if (ff.corotated) {
     apply_linear_operator_rows_corotated(ff.op, body, ff.exact.data(), ff.rotation,
                                          body.force_density);
-  } else if (body.displacement.empty()) {
-    apply_linear_operator_rows(ff.op, body, ff.exact.data(), body.force_density);
   } else {
     const std::size_t n = body.size();
 #pragma omp parallel for schedule(static)

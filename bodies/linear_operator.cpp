@@ -94,14 +94,6 @@ void apply_linear_operator(const LinearOperator& op, const Body& body, std::vect
   for (std::size_t i = 0; i < n; ++i) b[i] = row_product(op, body, i);
 }
 
-void apply_linear_operator_rows(const LinearOperator& op, const Body& body,
-                                const std::uint8_t* exact, std::vector<Vec3>& b) {
-  const std::size_t n = body.size();
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i)
-    if (!exact[i]) b[i] = row_product(op, body, i);
-}
-
 void apply_linear_operator_rows_corotated(const LinearOperator& op, const Body& body,
                                           const std::uint8_t* exact,
                                           const std::vector<Eigen::Matrix3d>& rotation,

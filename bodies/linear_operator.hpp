@@ -50,10 +50,6 @@ LinearOperator linear_operator_by_class(const Body& body);
 
 // b^i = sum_c K^ic u^c with the body's displacements, for every point.
 void apply_linear_operator(const LinearOperator& op, const Body& body, std::vector<Vec3>& b);
-// The same for the rows i with exact[i] == 0 only (the far field's linear points); b holds the
-// body's points and its other rows are left as they are.
-void apply_linear_operator_rows(const LinearOperator& op, const Body& body,
-                                const std::uint8_t* exact, std::vector<Vec3>& b);
 // The corotated rows (far_field.hpp): b^i = R^i sum_j K^ij (R^iT dx^ij - dX^ij) for the rows with
 // exact[i] == 0, R^i = rotation[i].
 void apply_linear_operator_rows_corotated(const LinearOperator& op, const Body& body,
