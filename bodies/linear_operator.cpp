@@ -1,7 +1,10 @@
 #include "bodies/linear_operator.hpp"
 
+#include <algorithm>
+#include <array>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "bodies/force_model.hpp"
 #include "bodies/operator_classes.hpp"
@@ -18,30 +21,85 @@ const ForceModelKernels& linearisable_model(const Body& body) {
   return kernels;
 }
 
-// The operator with the rows of the points p with first[p] == p assembled (their blocks in point
-// order) and every other point sharing the row of first[p].
-LinearOperator assemble_rows(const Body& body, const std::vector<std::uint32_t>& first) {
+// Row p's blocks turned from row r's by the symmetry S (operator_classes.hpp): the block of p's
+// member at offset S o is S B S^T with B the block of r's member at offset o, entry by entry
+// (S B S^T)(a, b) = sign[a] sign[b] B(perm[a], perm[b]).
+void turn_row(const Body& body, const RowClasses& classes, std::size_t p, LinearOperator& op,
+              std::size_t start) {
+  const std::size_t r = classes.source[p];
+  const LatticeSymmetry& S = lattice_symmetries()[classes.symmetry[p]];
+  const std::int32_t* coord = classes.coord.data();
+  auto member = [&](std::size_t i, std::size_t a) -> std::size_t {
+    return a == 0 ? i : body.family.neighbour[body.family.offset[i] + a - 1];
+  };
+  auto turned = [&](const Eigen::Matrix3d& B) {
+    Eigen::Matrix3d out;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) out(a, b) = S.sign[a] * S.sign[b] * B(S.perm[a], S.perm[b]);
+    return out;
+  };
+  // r's members by offset (S^T times p's member's offset), found in r's row by a search: the
+  // rows are short and few are turned.
+  const std::size_t members = 1 + body.family.family_size(r);
+  std::vector<std::pair<std::array<std::int32_t, 3>, std::size_t>> by_offset(members);
+  for (std::size_t a = 0; a < members; ++a) {
+    const std::size_t q = member(r, a);
+    by_offset[a] = {{coord[3 * q] - coord[3 * r], coord[3 * q + 1] - coord[3 * r + 1],
+                     coord[3 * q + 2] - coord[3 * r + 2]},
+                    a};
+  }
+  std::sort(by_offset.begin(), by_offset.end());
+  const Eigen::Matrix3d* source = &op.block[op.row[r]];
+  Eigen::Matrix3d* row = &op.block[start];
+  for (std::size_t a = 0; a < members; ++a) {
+    const std::size_t q = member(p, a);
+    const std::int32_t o[3] = {coord[3 * q] - coord[3 * p], coord[3 * q + 1] - coord[3 * p + 1],
+                               coord[3 * q + 2] - coord[3 * p + 2]};
+    std::array<std::int32_t, 3> back{};  // S^T o: back[perm[d]] = sign[d] o[d]
+    for (int d = 0; d < 3; ++d) back[static_cast<std::size_t>(S.perm[d])] = S.sign[d] * o[d];
+    const auto it = std::lower_bound(
+        by_offset.begin(), by_offset.end(), back,
+        [](const auto& entry, const std::array<std::int32_t, 3>& x) { return entry.first < x; });
+    if (it == by_offset.end() || it->first != back)
+      throw std::logic_error("linear operator: a turned row's member has no source");
+    row[a] = turned(source[it->second]);
+  }
+}
+
+// The operator with the rows of the classes' first points assembled where their source is
+// themselves (their blocks in point order), turned from their source's otherwise, and every
+// other point sharing the row of its class's first point.
+LinearOperator assemble_rows(const Body& body, const RowClasses& classes) {
   const ForceModelKernels& kernels = linearisable_model(body);
   const std::size_t n = body.size();
   LinearOperator op;
   op.row.assign(n, LinearOperator::kNoRow);
+  std::vector<std::size_t> start(n, LinearOperator::kNoRow);
   std::size_t blocks = 0;
   for (std::size_t i = 0; i < n; ++i)
-    if (first[i] == i) {
-      op.row[i] = blocks;
+    if (classes.first[i] == i) {
+      start[i] = blocks;
       blocks += 1 + body.family.family_size(i);
       ++op.classes;
+      if (classes.source[i] == i) {
+        op.row[i] = start[i];  // assembled
+        ++op.assembled;
+      }
     }
   op.block.assign(blocks, Eigen::Matrix3d::Zero());
   kernels.linearise(body, op);
-  for (std::size_t i = 0; i < n; ++i) op.row[i] = op.row[first[i]];
+  for (std::size_t i = 0; i < n; ++i)
+    if (classes.first[i] == i && classes.source[i] != i) turn_row(body, classes, i, op, start[i]);
+  for (std::size_t i = 0; i < n; ++i) op.row[i] = start[classes.first[i]];
   return op;
 }
 }  // namespace
 
 LinearOperator reference_linear_operator(const Body& body) {
-  std::vector<std::uint32_t> own(body.size());
-  for (std::size_t i = 0; i < own.size(); ++i) own[i] = static_cast<std::uint32_t>(i);
+  RowClasses own;
+  own.first.resize(body.size());
+  for (std::size_t i = 0; i < own.first.size(); ++i) own.first[i] = static_cast<std::uint32_t>(i);
+  own.source = own.first;
   return assemble_rows(body, own);
 }
 

@@ -33,7 +33,8 @@ struct LinearOperator {
   // one row class (operator_classes.hpp) share one row. kNoRow: a row the assembly skips.
   std::vector<std::size_t> row;
   std::vector<Eigen::Matrix3d> block;
-  std::size_t classes = 0;  // rows stored
+  std::size_t classes = 0;    // rows stored
+  std::size_t assembled = 0;  // of them assembled (the others turned, operator_classes.hpp)
   std::size_t bytes() const {
     return block.size() * sizeof(Eigen::Matrix3d) + row.size() * sizeof(std::size_t);
   }

@@ -11,6 +11,20 @@
 // The key is therefore exact, not a tolerance: a point is put in a class only after its key has
 // been compared in full with the class's first point. Points with a failed bond among their
 // members (a pre-crack at set-up) and points of bodies off a lattice are classes of their own.
+//
+// Classes related by a symmetry of the cubic lattice share the assembly as well. Let S be a
+// signed permutation of the axes (48 in 3D, the 8 that keep z in 2D): if class p's members sit
+// at the offsets S o of class r's members o, with the same volumes and effective volumes, then
+// p's neighbourhood is r's mirrored or turned, and since the force law is isotropic the
+// displacement field u'(x) = S u(S^T x) gives the forces b'(x) = S b(S^T x); to first order
+// sum_o K^p(S o) u'(p + S o) = S sum_o K^r(o) u(r + o), that is
+//   K^p(S o) = S K^r(o) S^T,
+// block by block. So only one class of each such orbit is assembled (the one with the smallest
+// first point) and the others' rows are its blocks turned (linear_operator.cpp). On the
+// sphere-disc's disc (issue 20) the rim's classes fall into orbits of up to 16 (the square's 8
+// symmetries times the flip of the two layers), and the assembly visits only the centres near
+// one sixteenth of the rim.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -18,8 +32,32 @@ namespace ckpd {
 
 struct Body;
 
-// Per point, the first point of its class (itself for a class's first point): a class's first
-// point has the smallest index of the class.
-std::vector<std::uint32_t> operator_row_classes(const Body& body);
+// A signed permutation of the axes: (S o)_d = sign[d] o_perm[d], the matrix S(d, perm[d]) =
+// sign[d].
+struct LatticeSymmetry {
+  std::array<int, 3> perm{0, 1, 2};
+  std::array<int, 3> sign{1, 1, 1};
+};
+// The 48 signed permutations, the identity first; in 2D only the first 8 are used (those that
+// keep z: perm[2] == 2, sign[2] == 1).
+const std::array<LatticeSymmetry, 48>& lattice_symmetries();
+inline std::size_t lattice_symmetry_count(int dimension) {
+  return dimension == 2 ? 8 : 48;
+}
+
+struct RowClasses {
+  // Per point, the first point of its class (itself for a class's first point): a class's
+  // first point has the smallest index of the class.
+  std::vector<std::uint32_t> first;
+  // Per class's first point p: the first point of the class whose row p's row is turned from
+  // (p itself where p's row is assembled), and the symmetry S (index into lattice_symmetries())
+  // with p's members at S times the source's members' offsets. Unused for other points.
+  std::vector<std::uint32_t> source;
+  std::vector<std::uint8_t> symmetry;
+  // Per point, its lattice coordinates (3 per point; empty off a lattice).
+  std::vector<std::int32_t> coord;
+};
+
+RowClasses operator_row_classes(const Body& body);
 
 }  // namespace ckpd

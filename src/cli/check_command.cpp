@@ -164,7 +164,9 @@ int check(const CheckOptions& opt) {
       std::cout << "    far field: tolerance " << sb.far_field->tolerance << ", linear operator "
                 << megabytes_text(static_cast<double>(sb.far_field->op.bytes()) / 1e6) << " ("
                 << sb.far_field->op.classes << " row classes for " << b.size()
-                << " points, one 3 x 3 block per family member and class), ";
+                << " points, one 3 x 3 block per family member and class; "
+                << sb.far_field->op.assembled
+                << " assembled, the others turned by a lattice symmetry), ";
       if (sb.far_field->corotated) {
         const double rotations = static_cast<double>((sb.far_field->shape_inverse.size() +
                                                       sb.far_field->rotation.size()) *

@@ -158,7 +158,8 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
                                     {"corotated", sb.far_field->corotated},
                                     {"exact_fraction", sb.far_field->exact_fraction()},
                                     {"operator_bytes", sb.far_field->op.bytes()},
-                                    {"operator_row_classes", sb.far_field->op.classes}};
+                                    {"operator_row_classes", sb.far_field->op.classes},
+                                    {"operator_rows_assembled", sb.far_field->op.assembled}};
   }
   j["points"] = points;
   j["bonds"] = bonds;
