@@ -54,8 +54,10 @@ class SymmetricKernelWorkspace {
   SymmetricKernelThread& thread(std::size_t t) { return *threads_[t]; }
   void ensure_threads(std::size_t count);
 
-  // Stencil path with damage: per point, whether some bond of its family has failed.
+  // With damage: per point, whether some bond of its family has failed (kSomeFailed) or every
+  // one (kAllFailed), and where it has some, the CSR position of its first neighbour j > i.
   std::vector<std::uint8_t> row_failed;
+  std::vector<std::size_t> row_upper;
   // The far field (far_field.hpp): when set, centres i with skip_centre[i] != 0 are not
   // processed (nothing exact among i and its upper family); null: every centre.
   const std::uint8_t* skip_centre = nullptr;

@@ -57,6 +57,51 @@ TEST_CASE("symmetric kernel equals the reference kernel on perturbed, damaged bo
   }
 }
 
+TEST_CASE("symmetric kernel equals the reference with points whose bonds have all failed",
+          "[symmetric_kernel]") {
+  // A point cut loose (every bond failed, as in a punched-out hole) has an empty intact row,
+  // which the kernel takes without reading the point's bonds (row_failed's kAllFailed); its
+  // neighbours' terms must see every bond to it failed, under either damage rule.
+  ThreadCountGuard guard;
+  const std::vector<Scene> scenes = {
+      {"2D lattice, nu=0.4 (stencil)", 2, 0.4, 0.0, 17, 15, 1},
+      {"3D lattice, nu=0.3 (stencil)", 3, 0.3, 0.0, 7, 7, 6},
+      {"3D jittered cloud, nu=0.3 (general path)", 3, 0.3, 0.25, 7, 6, 6},
+  };
+  for (const Scene& s : scenes)
+    for (const ckpd::DamageRule rule :
+         {ckpd::DamageRule::centre_bonds, ckpd::DamageRule::all_edges}) {
+      std::mt19937 rng(97);
+      Body body = ckpd::make_body(
+          block(s.dimension, s.nx, s.ny, s.nz, constants_for(s), s.jitter, rng, s.m));
+      body.damage_rule = rule;
+      perturb(body, 0.05, rng);
+      fail_bonds(body, 0.05, rng);
+      std::bernoulli_distribution cut(0.08);
+      std::size_t loose = 0;
+      for (std::size_t i = 0; i < body.size(); ++i) {
+        if (!cut(rng)) continue;
+        ++loose;
+        for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k) {
+          const std::uint32_t j = body.family.neighbour[k];
+          body.bond_intact[k] = 0;
+          for (std::size_t q = body.family.offset[j]; q < body.family.offset[j + 1]; ++q)
+            if (body.family.neighbour[q] == i) body.bond_intact[q] = 0;
+        }
+      }
+      REQUIRE(loose > 2);
+      const std::vector<int> thread_counts{1, 2};
+      const std::vector<Difference> diffs = compare_kernels(body, thread_counts);
+      for (std::size_t t = 0; t < diffs.size(); ++t) {
+        INFO(s.label << ", " << (rule == ckpd::DamageRule::all_edges ? "all_edges" : "centre_bonds")
+                     << ", " << loose << " points cut loose, " << thread_counts[t]
+                     << " thread(s): force " << diffs[t].force << ", energy " << diffs[t].energy);
+        CHECK(diffs[t].force <= 1e-12);
+        CHECK(diffs[t].energy <= 1e-12);
+      }
+    }
+}
+
 TEST_CASE("symmetric kernel with damage off ignores nothing and needs no flags",
           "[symmetric_kernel]") {
   ThreadCountGuard guard;

@@ -3,6 +3,8 @@
 // force_model_kernels.hpp).
 #include <omp.h>
 
+#include <algorithm>
+
 #include "bodies/bond_failure.hpp"
 #include "bodies/symmetric/bond_only.hpp"
 #include "bodies/symmetric/process_point.hpp"
@@ -47,7 +49,9 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
   // go to the groups alone: intact_pair_loop).
   if (ctx.intact != nullptr && !bonds_only) {
     if (workspace.row_failed.size() < n) workspace.row_failed.resize(n);
+    if (workspace.row_upper.size() < n) workspace.row_upper.resize(n);
     ctx.row_failed = workspace.row_failed.data();
+    ctx.row_upper = workspace.row_upper.data();
   }
   int team = 1;
   // Static schedule: which thread handles which point is a function of the thread count only,
@@ -74,10 +78,17 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
     if (ctx.row_failed != nullptr) {
 #pragma omp for schedule(static)
       for (std::size_t i = 0; i < n; ++i) {
-        std::uint8_t failed = 0;
-        for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k)
-          failed |= static_cast<std::uint8_t>(ctx.intact[k] == 0);
-        workspace.row_failed[i] = failed;
+        const std::size_t begin = body.family.offset[i], end = body.family.offset[i + 1];
+        std::size_t failed = 0;
+        for (std::size_t k = begin; k < end; ++k) failed += ctx.intact[k] == 0;
+        workspace.row_failed[i] = failed == 0             ? 0
+                                  : failed == end - begin ? ContextBase::kAllFailed
+                                                          : ContextBase::kSomeFailed;
+        if (failed != 0 && failed != end - begin)
+          workspace.row_upper[i] =
+              static_cast<std::size_t>(std::upper_bound(ctx.neighbour + begin, ctx.neighbour + end,
+                                                        static_cast<std::uint32_t>(i)) -
+                                       ctx.neighbour);
       }
     }
     const bool penalty = ctx.model.has_penalty();
