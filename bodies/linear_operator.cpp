@@ -1,10 +1,7 @@
 #include "bodies/linear_operator.hpp"
 
-#include <algorithm>
-#include <array>
 #include <stdexcept>
 #include <string>
-#include <utility>
 
 #include "bodies/force_model.hpp"
 #include "bodies/operator_classes.hpp"
@@ -23,47 +20,37 @@ const ForceModelKernels& linearisable_model(const Body& body) {
 
 // Row p's blocks turned from row r's by the symmetry S (operator_classes.hpp): the block of p's
 // member at offset S o is S B S^T with B the block of r's member at offset o, entry by entry
-// (S B S^T)(a, b) = sign[a] sign[b] B(perm[a], perm[b]).
+// (S B S^T)(a, b) = sign[a] sign[b] B(perm[a], perm[b]). r's members are looked up by offset in
+// `table` (filled and cleared here).
 void turn_row(const Body& body, const RowClasses& classes, std::size_t p, LinearOperator& op,
-              std::size_t start) {
+              std::size_t start, OffsetTable& table) {
   const std::size_t r = classes.source[p];
   const LatticeSymmetry& S = lattice_symmetries()[classes.symmetry[p]];
   const std::int32_t* coord = classes.coord.data();
   auto member = [&](std::size_t i, std::size_t a) -> std::size_t {
     return a == 0 ? i : body.family.neighbour[body.family.offset[i] + a - 1];
   };
-  auto turned = [&](const Eigen::Matrix3d& B) {
-    Eigen::Matrix3d out;
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) out(a, b) = S.sign[a] * S.sign[b] * B(S.perm[a], S.perm[b]);
-    return out;
+  auto offset = [&](std::size_t i, std::size_t q) -> OffsetTable::Offset {
+    return {std::int64_t{coord[3 * q]} - coord[3 * i],
+            std::int64_t{coord[3 * q + 1]} - coord[3 * i + 1],
+            std::int64_t{coord[3 * q + 2]} - coord[3 * i + 2]};
   };
-  // r's members by offset (S^T times p's member's offset), found in r's row by a search: the
-  // rows are short and few are turned.
   const std::size_t members = 1 + body.family.family_size(r);
-  std::vector<std::pair<std::array<std::int32_t, 3>, std::size_t>> by_offset(members);
-  for (std::size_t a = 0; a < members; ++a) {
-    const std::size_t q = member(r, a);
-    by_offset[a] = {{coord[3 * q] - coord[3 * r], coord[3 * q + 1] - coord[3 * r + 1],
-                     coord[3 * q + 2] - coord[3 * r + 2]},
-                    a};
-  }
-  std::sort(by_offset.begin(), by_offset.end());
+  for (std::size_t a = 0; a < members; ++a)
+    table.set(offset(r, member(r, a)), static_cast<std::int32_t>(a));
   const Eigen::Matrix3d* source = &op.block[op.row[r]];
   Eigen::Matrix3d* row = &op.block[start];
   for (std::size_t a = 0; a < members; ++a) {
-    const std::size_t q = member(p, a);
-    const std::int32_t o[3] = {coord[3 * q] - coord[3 * p], coord[3 * q + 1] - coord[3 * p + 1],
-                               coord[3 * q + 2] - coord[3 * p + 2]};
-    std::array<std::int32_t, 3> back{};  // S^T o: back[perm[d]] = sign[d] o[d]
+    const OffsetTable::Offset o = offset(p, member(p, a));
+    OffsetTable::Offset back{};  // S^T o: back[perm[d]] = sign[d] o[d]
     for (int d = 0; d < 3; ++d) back[static_cast<std::size_t>(S.perm[d])] = S.sign[d] * o[d];
-    const auto it = std::lower_bound(
-        by_offset.begin(), by_offset.end(), back,
-        [](const auto& entry, const std::array<std::int32_t, 3>& x) { return entry.first < x; });
-    if (it == by_offset.end() || it->first != back)
-      throw std::logic_error("linear operator: a turned row's member has no source");
-    row[a] = turned(source[it->second]);
+    const std::int32_t slot = table.at(back);
+    if (slot < 0) throw std::logic_error("linear operator: a turned row's member has no source");
+    const Eigen::Matrix3d& B = source[slot];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) row[a](i, k) = S.sign[i] * S.sign[k] * B(S.perm[i], S.perm[k]);
   }
+  for (std::size_t a = 0; a < members; ++a) table.set(offset(r, member(r, a)), -1);
 }
 
 // The operator with the rows of the classes' first points assembled where their source is
@@ -88,8 +75,12 @@ LinearOperator assemble_rows(const Body& body, const RowClasses& classes) {
     }
   op.block.assign(blocks, Eigen::Matrix3d::Zero());
   kernels.linearise(body, op);
-  for (std::size_t i = 0; i < n; ++i)
-    if (classes.first[i] == i && classes.source[i] != i) turn_row(body, classes, i, op, start[i]);
+  if (op.assembled < op.classes) {
+    OffsetTable table(classes.reach);
+    for (std::size_t i = 0; i < n; ++i)
+      if (classes.first[i] == i && classes.source[i] != i)
+        turn_row(body, classes, i, op, start[i], table);
+  }
   for (std::size_t i = 0; i < n; ++i) op.row[i] = start[classes.first[i]];
   return op;
 }

@@ -131,36 +131,14 @@ bool maps_moments(const LatticeSymmetry& S, const Moments& r, const Moments& p) 
   return true;
 }
 
-// Row p's members by offset, in a cube of side 2 reach + 1 around p: the slot of the member at
-// each offset, -1 where none.
-class OffsetTable {
- public:
-  explicit OffsetTable(std::int64_t reach) : reach_(reach), side_(2 * reach + 1) {
-    slot_.assign(static_cast<std::size_t>(side_ * side_ * side_), -1);
-  }
-  void fill(const RowKey& key, std::size_t p) {
-    for (std::size_t a = 0; a < key.members(p); ++a)
-      slot_[cell(key.offset(p, key.member(p, a)))] = static_cast<std::int32_t>(a);
-  }
-  void clear(const RowKey& key, std::size_t p) {
-    for (std::size_t a = 0; a < key.members(p); ++a)
-      slot_[cell(key.offset(p, key.member(p, a)))] = -1;
-  }
-  // The slot at offset o, -1 where none (or o outside the cube).
-  std::int32_t at(const std::array<std::int64_t, 3>& o) const {
-    for (std::int64_t x : o)
-      if (x < -reach_ || x > reach_) return -1;
-    return slot_[cell(o)];
-  }
-
- private:
-  std::size_t cell(const std::array<std::int64_t, 3>& o) const {
-    return static_cast<std::size_t>(((o[2] + reach_) * side_ + o[1] + reach_) * side_ + o[0] +
-                                    reach_);
-  }
-  std::int64_t reach_, side_;
-  std::vector<std::int32_t> slot_;
-};
+// Row p's members into (fill) and out of (clear) the table.
+void fill(OffsetTable& table, const RowKey& key, std::size_t p) {
+  for (std::size_t a = 0; a < key.members(p); ++a)
+    table.set(key.offset(p, key.member(p, a)), static_cast<std::int32_t>(a));
+}
+void clear(OffsetTable& table, const RowKey& key, std::size_t p) {
+  for (std::size_t a = 0; a < key.members(p); ++a) table.set(key.offset(p, key.member(p, a)), -1);
+}
 
 // Whether p's members are S times r's, member by member with the same values (p's table filled).
 bool is_image(const RowKey& key, const LatticeSymmetry& S, std::size_t r, std::size_t p,
@@ -273,6 +251,7 @@ RowClasses operator_row_classes(const Body& body) {
   // The offset table's cube grows like the horizon in spacings cubed: past 2^24 cells (a
   // horizon of some 128 spacings) the classes are each assembled.
   if (2 * reach + 1 > 256) return out;
+  out.reach = reach;
   const std::size_t symmetries = lattice_symmetry_count(body.dimension);
   OffsetTable table(reach);
   std::unordered_map<std::uint64_t, std::vector<std::size_t>> orbits;  // by symmetric hash
@@ -280,7 +259,7 @@ RowClasses operator_row_classes(const Body& body) {
     const std::uint32_t p = classes[c];
     std::vector<std::size_t>& candidates = orbits[symmetric[c]];
     bool found = false;
-    table.fill(key, p);
+    fill(table, key, p);
     for (std::size_t r : candidates) {
       for (std::size_t s = 0; s < symmetries && !found; ++s) {
         const LatticeSymmetry& S = lattice_symmetries()[s];
@@ -292,7 +271,7 @@ RowClasses operator_row_classes(const Body& body) {
       }
       if (found) break;
     }
-    table.clear(key, p);
+    clear(table, key, p);
     if (!found) candidates.push_back(c);
   }
   return out;

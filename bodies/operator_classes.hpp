@@ -45,6 +45,33 @@ inline std::size_t lattice_symmetry_count(int dimension) {
   return dimension == 2 ? 8 : 48;
 }
 
+// A row's members by lattice offset, in a cube of side 2 reach + 1 around the row's point: the
+// member's slot at each offset, -1 where none (the orbit search and the turned rows look members
+// up by offset). Filled for one row at a time and cleared after it.
+class OffsetTable {
+ public:
+  using Offset = std::array<std::int64_t, 3>;
+  explicit OffsetTable(std::int64_t reach)
+      : reach_(reach),
+        side_(2 * reach + 1),
+        slot_(static_cast<std::size_t>(side_ * side_ * side_), -1) {}
+  void set(const Offset& o, std::int32_t slot) { slot_[cell(o)] = slot; }
+  // The slot at offset o, -1 where none (or o outside the cube).
+  std::int32_t at(const Offset& o) const {
+    for (std::int64_t x : o)
+      if (x < -reach_ || x > reach_) return -1;
+    return slot_[cell(o)];
+  }
+
+ private:
+  std::size_t cell(const Offset& o) const {
+    return static_cast<std::size_t>(((o[2] + reach_) * side_ + o[1] + reach_) * side_ + o[0] +
+                                    reach_);
+  }
+  std::int64_t reach_, side_;
+  std::vector<std::int32_t> slot_;
+};
+
 struct RowClasses {
   // Per point, the first point of its class (itself for a class's first point): a class's
   // first point has the smallest index of the class.
@@ -54,8 +81,10 @@ struct RowClasses {
   // with p's members at S times the source's members' offsets. Unused for other points.
   std::vector<std::uint32_t> source;
   std::vector<std::uint8_t> symmetry;
-  // Per point, its lattice coordinates (3 per point; empty off a lattice).
+  // Per point, its lattice coordinates (3 per point; empty off a lattice), and the largest
+  // member offset component of the classes (an OffsetTable's reach; 0 without turned rows).
   std::vector<std::int32_t> coord;
+  std::int64_t reach = 0;
 };
 
 RowClasses operator_row_classes(const Body& body);
