@@ -236,7 +236,7 @@ FailureUpdate fail_overstretched_bonds_of(const Model& model, Body& body, double
 #pragma omp parallel
   {
     SwitchingFamily& scratch = scratches[static_cast<std::size_t>(omp_get_thread_num())];
-    scratch.reserve(largest_family);
+    scratch.reserve(largest_family, n);
 #pragma omp for schedule(dynamic, 4)
     for (std::size_t p = 0; p < points.size(); ++p)
       lost[p] = switched_off_energy_density_of(model, body, points[p], scratch, failing, ends);

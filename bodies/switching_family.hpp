@@ -5,11 +5,15 @@
 // between two of its members, visited once. The family's slots are FamilyScratch::load's
 // (intact bonds, in row order, the same offsets bit for bit) and two slots are adjacent exactly
 // when they are there; but an adjacency row is built only for a slot that a switching set
-// needs, by one merge of that slot's sorted bond row with the centre's, so a point whose family
-// holds one failing edge costs O(family), not O(family^2) and a bond look-up per pair.
+// needs, so a point whose family holds one failing edge costs O(family), not O(family^2) and a
+// bond look-up per pair. A row is one vector loop of distance tests over the members' reference
+// offsets (kept as three arrays for it) and, under all_edges, the failed bonds of that slot's
+// CSR row taken out through a point-to-slot table (no merge of two sorted rows, whose branch
+// mispredicted about every other entry).
 #include <algorithm>
 #include <bit>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "bodies/body.hpp"
@@ -27,8 +31,10 @@ class SwitchingFamily {
     const std::size_t begin = body.family.offset[i], end = body.family.offset[i + 1];
     const bool has_u = !body.displacement.empty();
     const Vec3 Xi = body.reference_position[i], ui = has_u ? body.displacement[i] : Vec3::Zero();
+    // The last point's slots out of the table (it is all zero between loads otherwise).
+    for (std::size_t a = 0; a < size_; ++a) slot_of_[index[a]] = 0;
     size_ = 0;
-    grow(end - begin);
+    reserve(end - begin, body.size());
     for (std::size_t k = begin; k < end; ++k) {
       if (!body.bond_intact[k]) continue;
       const std::uint32_t j = body.family.neighbour[k];
@@ -36,6 +42,10 @@ class SwitchingFamily {
       bond[size_] = k;
       ref[size_] = body.reference_position[j] - Xi;
       cur[size_] = has_u ? Vec3(ref[size_] + (body.displacement[j] - ui)) : ref[size_];
+      ref_x_[size_] = ref[size_].x();
+      ref_y_[size_] = ref[size_].y();
+      ref_z_[size_] = ref[size_].z();
+      slot_of_[j] = static_cast<std::uint32_t>(size_ + 1);
       ++size_;
     }
     words_ = (size_ + 63) / 64;
@@ -51,12 +61,15 @@ class SwitchingFamily {
     // A failing edge b-c (b < c, both members, within the horizon of each other) is found in the
     // bond row of b; both ends of a failing bond are ends, so b's row is walked.
     for (std::size_t b = 0; b < size_; ++b) {
-      if (!ends[index[b]]) continue;
-      walk_row(b, [&](std::size_t c, std::size_t p) {
-        if (c <= b || !failing[p] || !within(b, c)) return;
-        add_edge(b, c);
-        add_edge(c, b);
-      });
+      const std::uint32_t j = index[b];
+      if (!ends[j]) continue;
+      for_each_flag_other_than(failing.data(), body.family.offset[j], body.family.offset[j + 1], 0,
+                               [&](std::size_t p) {
+                                 const std::uint32_t c = slot_of_[body.family.neighbour[p]];
+                                 if (c == 0 || c - 1 <= b || !within(b, c - 1)) return;
+                                 add_edge(b, c - 1);
+                                 add_edge(c - 1, b);
+                               });
     }
   }
 
@@ -141,8 +154,12 @@ class SwitchingFamily {
   }
 
   std::size_t size() const { return size_; }
-  // Makes room for families of up to n members now, so that later loads allocate nothing.
-  void reserve(std::size_t n) { grow(n); }
+  // Makes room for families of up to n members of a body of `points` points now, so that later
+  // loads allocate nothing.
+  void reserve(std::size_t n, std::size_t points) {
+    grow(n);
+    if (slot_of_.size() < points) slot_of_.resize(points, 0);
+  }
 
   std::vector<Vec3> ref, cur;
   std::vector<std::uint32_t> index;  // each slot's point
@@ -185,35 +202,53 @@ class SwitchingFamily {
   }
 
   // FamilyScratch::load's adjacency test: within the horizon (the same offsets, the same
-  // rounding) and, under all_edges, the bond between the two not failed before this step.
+  // rounding: Eigen's squaredNorm of a 3-vector is (x x + y y) + z z) and, under all_edges, the
+  // bond between the two not failed before this step.
   bool within(std::size_t a, std::size_t b) const {
     return (ref[b] - ref[a]).squaredNorm() <= limit2_;
   }
-  // f(c, p) for every slot c whose point is in slot a's bond row, p that bond's position. Both
-  // rows are sorted by point.
+  // f(p) for every p in [begin, end) with flag[p] != usual, eight flags at a time: the rows near
+  // a crack hold few failed (failing) bonds among many intact (not failing) ones.
   template <class Fn>
-  void walk_row(std::size_t a, Fn&& f) const {
-    const Body& body = *body_;
-    const std::uint32_t j = index[a];
-    std::size_t p = body.family.offset[j];
-    const std::size_t end = body.family.offset[j + 1];
-    for (std::size_t c = 0; c < size_ && p < end; ++c) {
-      while (p < end && body.family.neighbour[p] < index[c]) ++p;
-      if (p < end && body.family.neighbour[p] == index[c]) f(c, p);
+  static void for_each_flag_other_than(const std::uint8_t* flag, std::size_t begin, std::size_t end,
+                                       std::uint8_t usual, Fn&& f) {
+    const std::uint64_t usual8 = 0x0101010101010101 * std::uint64_t{usual};
+    std::size_t p = begin;
+    for (; p + 8 <= end; p += 8) {
+      std::uint64_t eight;
+      std::memcpy(&eight, flag + p, 8);
+      if (eight == usual8) continue;
+      for (std::size_t q = p; q < p + 8; ++q)
+        if (flag[q] != usual) f(q);
     }
+    for (; p < end; ++p)
+      if (flag[p] != usual) f(p);
   }
   // Slot a's adjacency row, built on first use.
   const std::uint64_t* row(std::size_t a) {
     std::uint64_t* r = &adjacency_[a * words_];
     if (test(row_built_, 0, a)) return r;
     set(row_built_, 0, a);
-    std::fill(r, r + words_, 0);
-    for (std::size_t b = 0; b < size_; ++b)
-      if (b != a && within(a, b)) r[b / 64] |= std::uint64_t{1} << (b % 64);
-    if (skip_failed_)
-      walk_row(a, [&](std::size_t c, std::size_t p) {
-        if (!body_->bond_intact[p]) r[c / 64] &= ~(std::uint64_t{1} << (c % 64));
-      });
+    const double xa = ref_x_[a], ya = ref_y_[a], za = ref_z_[a];
+    for (std::size_t w = 0; w < words_; ++w) {
+      const std::size_t first = w * 64, last = std::min(first + 64, size_);
+      std::uint64_t bits = 0;
+      for (std::size_t b = first; b < last; ++b) {
+        const double dx = ref_x_[b] - xa, dy = ref_y_[b] - ya, dz = ref_z_[b] - za;
+        bits |= std::uint64_t{(dx * dx + dy * dy) + dz * dz <= limit2_} << (b - first);
+      }
+      r[w] = bits;
+    }
+    r[a / 64] &= ~(std::uint64_t{1} << (a % 64));
+    if (skip_failed_) {
+      const Body& body = *body_;
+      const std::uint32_t j = index[a];
+      for_each_flag_other_than(body.bond_intact.data(), body.family.offset[j],
+                               body.family.offset[j + 1], 1, [&](std::size_t p) {
+                                 if (const std::uint32_t c = slot_of_[body.family.neighbour[p]])
+                                   r[(c - 1) / 64] &= ~(std::uint64_t{1} << ((c - 1) % 64));
+                               });
+    }
     return r;
   }
   void add_edge(std::size_t b, std::size_t c) {
@@ -232,6 +267,9 @@ class SwitchingFamily {
       cur.resize(n);
       index.resize(n);
       bond.resize(n);
+      ref_x_.resize(n);
+      ref_y_.resize(n);
+      ref_z_.resize(n);
     }
     const std::size_t w = (n + 63) / 64;
     if (adjacency_.size() < n * w) {
@@ -251,6 +289,10 @@ class SwitchingFamily {
   bool skip_failed_ = false;
   std::vector<std::uint64_t> adjacency_, edge_;  // one bit row per slot
   std::vector<std::uint64_t> failing_slot_, row_built_, edge_member_;
+  std::vector<double> ref_x_, ref_y_, ref_z_;  // ref by component, for the row's vector loop
+  // Each point's slot + 1 in the loaded family, 0 for the others: one entry per point of the
+  // body, cleared member by member at the next load.
+  std::vector<std::uint32_t> slot_of_;
 };
 
 }  // namespace ckpd
