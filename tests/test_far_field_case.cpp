@@ -91,6 +91,51 @@ TEST_CASE("far_field reports the exact fraction in history.csv, summary.json and
   CHECK(c.output.find("fraction of its points exact after the timed steps") != std::string::npos);
 }
 
+// The number after `key` in `text` (the first occurrence).
+double number_after(const std::string& text, const std::string& key) {
+  const std::size_t at = text.find(key);
+  REQUIRE(at != std::string::npos);
+  return std::stod(text.substr(at + key.size()));
+}
+
+TEST_CASE("check --cost-ratio measures the far field's cost ratio and prints the speed-up bound",
+          "[far_field]") {
+  const auto dir = fresh_dir("ff-cost");
+  for (const char* key :
+       {"far_field: {tolerance: 1e-3}", "far_field: {tolerance: 1e-3, corotated: true}"}) {
+    INFO(key);
+    const std::string file = write_file(dir / "check.yaml", with_key(key));
+    const CommandResult c = run_ckpd("check " + file + " --steps 3 --cost-ratio");
+    INFO(c.output);
+    REQUIRE(c.exit_code == 0);
+    const double linear = number_after(c.output, "over 3 steps each: ");
+    const double f0 = number_after(c.output, "with the tolerance lifted (exact fraction ");
+    const double exact = number_after(c.output, "only points near damage exact), ");
+    const double ratio = number_after(c.output, "cost ratio c = ");
+    // The precrack's families stay exact with the tolerance lifted; the rest is linear.
+    CHECK(f0 > 0);
+    CHECK(f0 < 0.5);
+    CHECK(linear > 0);
+    CHECK(exact > 0);
+    // c with the probe's exact points taken out, and the bound at f = 0.5 from it (printed to
+    // six digits).
+    CHECK(ratio == Approx((linear / exact - f0) / (1 - f0)).epsilon(1e-4));
+    const std::string bounds =
+        c.output.substr(c.output.find("; ", c.output.find("measured there")));
+    std::istringstream in(bounds.substr(2));
+    double b1 = 0, b2 = 0, b3 = 0, b5 = 0;
+    char x = 0, comma = 0;
+    in >> b1 >> x >> comma >> b2 >> x >> comma >> b3 >> x >> comma >> b5;
+    CHECK(b5 == Approx(1 / (0.5 + 0.5 * ratio)).epsilon(1e-4));
+    CHECK(b1 == Approx(1 / (0.1 + 0.9 * ratio)).epsilon(1e-4));
+  }
+  // Without a far field the option says so.
+  const CommandResult none =
+      run_ckpd("check " + write_file(dir / "none.yaml", with_key("")) + " --steps 1 --cost-ratio");
+  CHECK(none.exit_code == 0);
+  CHECK(none.output.find("no body of this case has a far field") != std::string::npos);
+}
+
 TEST_CASE("a corotated far_field is reported as such and keeps the plate linear", "[far_field]") {
   const auto dir = fresh_dir("ff-corotated");
   const std::string text = with_key("far_field: {tolerance: 1e-3, corotated: true}");

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -31,7 +32,8 @@ struct CheckOptions {
   std::vector<std::string> overrides;
   int steps = 3;
   int threads = 0;
-  int ranks = 0;  // 0: no decomposition report
+  int ranks = 0;            // 0: no decomposition report
+  bool cost_ratio = false;  // time the far field's linear and exact steps (far_field_cost)
 };
 
 // Bytes the body's own arrays hold: state and reference vectors, per-point constants, the CSR
@@ -119,6 +121,61 @@ void print_decomposition(const Scene& scene, int ranks) {
                 << " received and sent back per step";
     std::cout << '\n';
   }
+}
+
+// Wall seconds per step of `steps` steps (at least one).
+double seconds_per_step(Simulation& sim, int steps) {
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int k = 0; k < steps; ++k) sim.advance(false);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / steps;
+}
+
+// The far field's cost ratio c (issue 20's speed-up bound): `steps` steps with every far-field
+// point that can be linear made linear (the tolerance lifted, the sticky exact flags cleared;
+// the classification keeps points with a failed bond near them and, corotated, families that
+// span no volume exact: a fraction f0, taken out of c below), then `steps` steps with the far
+// field off (every body exact). A step with a fraction f of its points exact then costs about
+// f + (1 - f) c of an exact step, so the
+// far field can be at most 1 / (f + (1 - f) c) times faster. The probe advances the check's own
+// state only (check writes nothing). Returns the exit status as check does.
+int far_field_cost(Simulation& sim, Scene& scene, int steps, double timed_per_step) {
+  const double timed_fraction = sim.exact_fraction();
+  for (SceneBody& sb : scene.bodies) {
+    if (!sb.far_field) continue;
+    FarField& ff = *sb.far_field;
+    ff.tolerance = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < ff.exact.size(); ++i)
+      ff.exact[i] = ff.corotated && ff.shape_inverse[i].isZero() ? 1 : 0;
+  }
+  double linear = 0, exact = 0, linear_fraction = 0;
+  try {
+    linear = seconds_per_step(sim, steps);
+    linear_fraction = sim.exact_fraction();
+    for (SceneBody& sb : scene.bodies) sb.far_field.reset();
+    exact = seconds_per_step(sim, steps);
+  } catch (const InstabilityError& e) {
+    std::cerr << "ckpd: " << e.what() << "\nckpd: check: the case is not stable within the "
+              << steps << " steps of the far field's cost probe\n";
+    return 3;
+  }
+  if (!(linear_fraction < 1)) {
+    std::cout << "far field cost (--cost-ratio): every far-field point stays exact with the "
+                 "tolerance lifted (damage near all of them): no linear cost to measure\n";
+    return 0;
+  }
+  // The probe's own exact points (near damage) are taken out: linear = (f0 + (1 - f0) c) exact.
+  const double c = (linear / exact - linear_fraction) / (1 - linear_fraction);
+  auto bound = [c](double f) { return 1 / (f + (1 - f) * c); };
+  std::cout << "far field cost (--cost-ratio), over " << steps << " steps each: " << linear
+            << " s per step with the tolerance lifted (exact fraction " << linear_fraction
+            << ": only points near damage exact), " << exact
+            << " s per step with the far field off; cost ratio c = " << c
+            << "\n  speed-up bound 1 / (f + (1 - f) c): " << bound(timed_fraction)
+            << "x at the timed steps' exact fraction f = " << timed_fraction
+            << " (measured there: " << exact / timed_per_step << "x); " << bound(0.1) << "x, "
+            << bound(0.2) << "x, " << bound(0.3) << "x, " << bound(0.5)
+            << "x at f = 0.1, 0.2, 0.3, 0.5\n";
+  return 0;
 }
 
 // Returns the exit status: 0, or 3 when a timed step goes unstable (as `run` would).
@@ -252,6 +309,13 @@ int check(const CheckOptions& opt) {
               << sim.exact_fraction()
               << "; the projection holds while it stays there (it grows as damage and strain "
                  "spread: exact points are exact for good)\n";
+  if (opt.cost_ratio) {
+    if (!sim.has_far_field()) {
+      std::cout << "far field cost (--cost-ratio): no body of this case has a far field\n";
+      return 0;
+    }
+    return far_field_cost(sim, scene, steps, per_step);
+  }
   return 0;
 }
 
@@ -266,6 +330,10 @@ void add_check_command(CLI::App& app, int& exit_status) {
   cmd->add_option("--steps", opt->steps, "steps to time for the projection (default 3)")
       ->check(CLI::NonNegativeNumber);
   add_threads_option(*cmd, opt->threads);
+  cmd->add_flag("--cost-ratio", opt->cost_ratio,
+                "with a far field: after the timed steps, time as many steps with every point "
+                "linear and as many exact, and print the cost ratio c and the speed-up bound "
+                "1 / (f + (1 - f) c)");
   cmd->add_option("--ranks", opt->ranks,
                   "report the decomposition a run on this many MPI ranks would use: points, "
                   "work share, halo points and bytes exchanged per step for each rank")
