@@ -129,6 +129,15 @@ TEST_CASE("check --cost-ratio measures the far field's cost ratio and prints the
     CHECK(b5 == Approx(1 / (0.5 + 0.5 * ratio)).epsilon(1e-4));
     CHECK(b1 == Approx(1 / (0.1 + 0.9 * ratio)).epsilon(1e-4));
   }
+  // The probe stays within the case's 30 steps: 20 timed leave 5 of each kind, 30 none.
+  const std::string file = write_file(dir / "few.yaml", with_key("far_field: {tolerance: 1e-3}"));
+  const CommandResult five = run_ckpd("check " + file + " --steps 20 --cost-ratio");
+  CHECK(five.exit_code == 0);
+  CHECK(five.output.find("over 5 steps each") != std::string::npos);
+  const CommandResult none_left = run_ckpd("check " + file + " --steps 30 --cost-ratio");
+  CHECK(none_left.exit_code == 0);
+  CHECK(none_left.output.find("plans too few steps for the probe (30 in all, 30 timed)") !=
+        std::string::npos);
   // Without a far field the option says so.
   const CommandResult none =
       run_ckpd("check " + write_file(dir / "none.yaml", with_key("")) + " --steps 1 --cost-ratio");

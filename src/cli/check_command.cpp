@@ -135,9 +135,9 @@ double seconds_per_step(Simulation& sim, int steps) {
 // the classification keeps points with a failed bond near them and, corotated, families that
 // span no volume exact: a fraction f0, taken out of c below), then `steps` steps with the far
 // field off (every body exact). A step with a fraction f of its points exact then costs about
-// f + (1 - f) c of an exact step, so the
-// far field can be at most 1 / (f + (1 - f) c) times faster. The probe advances the check's own
-// state only (check writes nothing). Returns the exit status as check does.
+// f + (1 - f) c of an exact step, so the far field can be at most 1 / (f + (1 - f) c) times
+// faster. The probe advances the check's own state only (check writes nothing), within the
+// case's planned steps. Returns the exit status as check does.
 int far_field_cost(Simulation& sim, Scene& scene, int steps, double timed_per_step) {
   const double timed_fraction = sim.exact_fraction();
   for (SceneBody& sb : scene.bodies) {
@@ -278,6 +278,7 @@ int check(const CheckOptions& opt) {
   const int steps = static_cast<int>(std::min<long long>(opt.steps, sim.planned_steps()));
   if (steps <= 0) {
     std::cout << "set-up took " << setup << " s; no steps to time\n";
+    if (opt.cost_ratio) std::cout << "far field cost (--cost-ratio): needs timed steps\n";
     return 0;
   }
   const double bound_before = sim.stable_step_seconds();  // the set-up's own evaluation
@@ -314,7 +315,15 @@ int check(const CheckOptions& opt) {
       std::cout << "far field cost (--cost-ratio): no body of this case has a far field\n";
       return 0;
     }
-    return far_field_cost(sim, scene, steps, per_step);
+    // As many probe steps of each kind as the timed steps, as far as the case's steps allow.
+    const int probe =
+        static_cast<int>(std::min<long long>(steps, (sim.planned_steps() - steps) / 2));
+    if (probe <= 0) {
+      std::cout << "far field cost (--cost-ratio): the case plans too few steps for the probe ("
+                << sim.planned_steps() << " in all, " << steps << " timed)\n";
+      return 0;
+    }
+    return far_field_cost(sim, scene, probe, per_step);
   }
   return 0;
 }
