@@ -254,6 +254,40 @@ TEST_CASE(
   }
 }
 
+TEST_CASE(
+    "far field: bonds failing over several classifications make exact the points a "
+    "classification from scratch makes exact",
+    "[far_field]") {
+  // The classification marks the neighbourhood of a failed bond when it first sees the bond
+  // failed; each round below fails more bonds across the whole body (none at the set-up) and
+  // compares with the rule applied from scratch. At strain 1e-8 no point is exact by strain.
+  kernel_comparison::ThreadCountGuard guard;
+  for (const FarScene& fs : scenes()) {
+    for (int threads : {1, 2}) {
+      omp_set_num_threads(threads);
+      std::mt19937 rng(31);
+      Body body = scene_body(fs, 0.0, rng);
+      body.damage_enabled = true;
+      kernel_comparison::perturb(body, 1e-8, rng);
+      ckpd::FarField ff = ckpd::make_far_field(body, 1e-3);
+      std::size_t previous = 0;
+      for (int round = 0; round < 3; ++round) {
+        INFO(label(fs) << ", " << threads << " threads, round " << round);
+        if (round > 0) kernel_comparison::fail_bonds(body, 0.0005, rng);
+        ckpd::classify_far_field(body, ff);
+        const std::vector<std::uint8_t> expected = expected_exact(body, 1e-3);
+        std::size_t mismatched = 0;
+        for (std::size_t i = 0; i < body.size(); ++i) mismatched += ff.exact[i] != expected[i];
+        CHECK(mismatched == 0);
+        if (round == 0) CHECK(ff.exact_count == 0);
+        if (round > 0) CHECK(ff.exact_count > previous);  // the new failures' neighbourhoods
+        CHECK(ff.exact_count < body.size());
+        previous = ff.exact_count;
+      }
+    }
+  }
+}
+
 TEST_CASE("far field: a point once exact stays exact when its strain falls back", "[far_field]") {
   const FarScene fs = scenes()[2];
   std::mt19937 rng(3);
