@@ -13,10 +13,10 @@
 #include <algorithm>
 #include <bit>
 #include <cstdint>
-#include <cstring>
 #include <vector>
 
 #include "bodies/body.hpp"
+#include "bodies/flag_scan.hpp"
 
 namespace ckpd {
 
@@ -206,23 +206,6 @@ class SwitchingFamily {
   // bond between the two not failed before this step.
   bool within(std::size_t a, std::size_t b) const {
     return (ref[b] - ref[a]).squaredNorm() <= limit2_;
-  }
-  // f(p) for every p in [begin, end) with flag[p] != usual, eight flags at a time: the rows near
-  // a crack hold few failed (failing) bonds among many intact (not failing) ones.
-  template <class Fn>
-  static void for_each_flag_other_than(const std::uint8_t* flag, std::size_t begin, std::size_t end,
-                                       std::uint8_t usual, Fn&& f) {
-    const std::uint64_t usual8 = 0x0101010101010101 * std::uint64_t{usual};
-    std::size_t p = begin;
-    for (; p + 8 <= end; p += 8) {
-      std::uint64_t eight;
-      std::memcpy(&eight, flag + p, 8);
-      if (eight == usual8) continue;
-      for (std::size_t q = p; q < p + 8; ++q)
-        if (flag[q] != usual) f(q);
-    }
-    for (; p < end; ++p)
-      if (flag[p] != usual) f(p);
   }
   // Slot a's adjacency row, built on first use.
   const std::uint64_t* row(std::size_t a) {

@@ -10,6 +10,7 @@
 #include <limits>
 #include <vector>
 
+#include "bodies/flag_scan.hpp"
 #include "bodies/lattice_stencil.hpp"
 #include "bodies/set_law.hpp"
 #include "bodies/symmetric_kernel.hpp"
@@ -408,9 +409,9 @@ inline void build_csr_rows(const ContextBase& ctx, SymmetricKernelThread& t,
     if (ctx.row_failed != nullptr && ctx.row_failed[j] == ContextBase::kAllFailed) continue;
     std::copy_n(row != nullptr ? row : &t.adj[a * W], W, irow);
     if (intact == nullptr || (ctx.row_failed != nullptr && ctx.row_failed[j] == 0)) continue;
-    // The failed entries of the row, eight flags at a time (a word's zero bytes, exactly). Only
-    // the upper entries count (points after j, as the rows hold them); points that are no slot
-    // of i have slot_of zero.
+    // The failed entries of the row, eight flags at a time (flag_scan.hpp). Only the upper
+    // entries count (points after j, as the rows hold them); points that are no slot of i have
+    // slot_of zero.
     const std::size_t begin = ctx.row_failed != nullptr ? ctx.row_upper[j] : ctx.offset[j];
     const std::size_t end = ctx.offset[j + 1];
     auto clear = [&](std::size_t k) {
@@ -418,17 +419,7 @@ inline void build_csr_rows(const ContextBase& ctx, SymmetricKernelThread& t,
       const std::uint64_t s = x > j ? slot_of[x] : 0;
       if (s != 0) irow[(s - 1) >> 6] &= ~(std::uint64_t{1} << ((s - 1) & 63));
     };
-    std::size_t k = begin;
-    for (; k + 8 <= end; k += 8) {
-      std::uint64_t v;
-      std::memcpy(&v, intact + k, sizeof v);
-      constexpr std::uint64_t low7 = 0x7f7f7f7f7f7f7f7full;
-      // The high bit of each zero byte (no carry crosses a byte: each is 7 bits plus 0x7f).
-      for (std::uint64_t zero = ~(((v & low7) + low7) | v | low7); zero != 0; zero &= zero - 1)
-        clear(k + static_cast<std::size_t>(std::countr_zero(zero)) / 8);
-    }
-    for (; k < end; ++k)
-      if (intact[k] == 0) clear(k);
+    for_each_flag_other_than(intact, begin, end, 1, clear);
   }
   for (std::size_t n = 0; n < count; ++n) slot_of[t.up[t.list[n]]] = 0;
 }
