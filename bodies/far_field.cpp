@@ -14,6 +14,13 @@ FarField make_far_field(const Body& body, double tolerance, bool corotated) {
   ff.row_failed.assign(n, 0);
   ff.skip.assign(n, 0);
   ff.corotated = corotated;
+  ff.shortest_bond2.assign(n, std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k)
+      ff.shortest_bond2[i] =
+          std::min(ff.shortest_bond2[i],
+                   (body.reference_position[body.family.neighbour[k]] - body.reference_position[i])
+                       .squaredNorm());
   if (!corotated) {
     ff.linear_force.assign(n, Vec3::Zero());  // filled by the classification
     return ff;
@@ -83,68 +90,102 @@ double corotated_screen(const Body& body, FarField& ff, std::size_t i) {
 
 }  // namespace
 
+namespace {
+
+// A failed bond with both ends in {i} and i's family makes i exact. Row i of the operator is
+// built from the sets that hold i, and every edge of such a set is a bond between two points of
+// {i} and its family (all its vertices are bonded to i): a failed bond with an end outside
+// switches none of them off, and row i stays as assembled. Members' rows with a failed bond are
+// searched only where row_failed says there is one.
+bool failed_bond_among_family(const Body& body, const FarField& ff, std::size_t i) {
+  const std::size_t* offset = body.family.offset.data();
+  const std::uint32_t* nb = body.family.neighbour.data();
+  const std::uint8_t* intact = body.bond_intact.data();
+  const std::uint32_t* first = nb + offset[i];
+  const std::uint32_t* last = nb + offset[i + 1];
+  for (const std::uint32_t* p = first; p < last; ++p) {
+    const std::uint32_t j = *p;
+    if (!ff.row_failed[j]) continue;
+    for (std::size_t k = offset[j]; k < offset[j + 1]; ++k)
+      if (intact[k] == 0 && (nb[k] == i || std::binary_search(first, last, nb[k]))) return true;
+  }
+  return false;
+}
+
+// The plain screen max_j |u^j - u^i|^2 / L^2 < T^2, bond by bond.
+bool passes_screen(const Body& body, std::size_t i, double T2) {
+  const std::size_t* offset = body.family.offset.data();
+  const std::uint32_t* nb = body.family.neighbour.data();
+  const Vec3 Xi = body.reference_position[i], ui = body.displacement[i];
+  double worst = 0;
+  for (std::size_t k = offset[i]; k < offset[i + 1]; ++k) {
+    const std::uint32_t j = nb[k];
+    const double L2 = (body.reference_position[j] - Xi).squaredNorm();
+    worst = std::max(worst, (body.displacement[j] - ui).squaredNorm() / L2);
+  }
+  return worst < T2;
+}
+
+}  // namespace
+
 void classify_far_field(const Body& body, FarField& ff) {
   const std::size_t n = body.size();
   const std::size_t* offset = body.family.offset.data();
   const std::uint32_t* nb = body.family.neighbour.data();
   const std::uint8_t* intact = body.damage_enabled ? body.bond_intact.data() : nullptr;
   const bool moved = !body.displacement.empty();
-  const double T = ff.tolerance;
+  const double T2 = ff.tolerance * ff.tolerance;
   std::size_t exact_count = 0;
   if (!ff.corotated) ff.linear_force.resize(n);  // make_far_field sized it: no allocation
 #pragma omp parallel
   {
-    // A failed bond anywhere in i's row; and i's own strain screen, booked at once.
+    // A failed bond anywhere in i's row (read for i's members below: a pass of its own).
+    if (intact != nullptr) {
 #pragma omp for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) {
-      std::uint8_t failed = 0;
-      if (intact != nullptr)
+      for (std::size_t i = 0; i < n; ++i) {
+        std::uint8_t failed = 0;
         for (std::size_t k = offset[i]; k < offset[i + 1]; ++k) failed |= intact[k] == 0;
-      ff.row_failed[i] = failed;
-      if (ff.exact[i] || failed) continue;
-      if (!moved) {  // at the reference state: no strain, and b^i = K 0
-        if (!ff.corotated) ff.linear_force[i] = Vec3::Zero();
-        continue;
+        ff.row_failed[i] = failed;
       }
-      if (ff.corotated) {
-        if (!(corotated_screen(body, ff, i) < T * T)) ff.exact[i] = 1;
-        continue;
-      }
-      // The screen, and b^i = K^ii u^i + sum_j K^ij u^j summed as apply_linear_operator sums it
-      // (the tests compare the two bit for bit).
-      const Vec3 Xi = body.reference_position[i], ui = body.displacement[i];
-      const Eigen::Matrix3d* row = &ff.op.block[ff.op.row[i]];
-      Vec3 b = row[0] * ui;
-      double worst = 0;  // max_j |u^j - u^i|^2 / L^2
-      std::size_t slot = 1;
-      for (std::size_t k = offset[i]; k < offset[i + 1]; ++k, ++slot) {
-        const std::uint32_t j = nb[k];
-        const Vec3 uj = body.displacement[j];
-        const double L2 = (body.reference_position[j] - Xi).squaredNorm();
-        worst = std::max(worst, (uj - ui).squaredNorm() / L2);
-        b += row[slot] * uj;
-      }
-      ff.linear_force[i] = b;
-      if (!(worst < T * T)) ff.exact[i] = 1;
     }
-    // A failed bond with both ends in {i} and i's family makes i exact. Row i of the operator
-    // is built from the sets that hold i, and every edge of such a set is a bond between two
-    // points of {i} and its family (all its vertices are bonded to i): a failed bond with an end
-    // outside switches none of them off, and row i stays as assembled. Members' rows with a
-    // failed bond are searched only where row_failed says there is one.
 #pragma omp for schedule(dynamic, 256)
     for (std::size_t i = 0; i < n; ++i) {
       if (ff.exact[i]) continue;
-      bool failed = ff.row_failed[i] != 0;
-      const std::uint32_t* first = nb + offset[i];
-      const std::uint32_t* last = nb + offset[i + 1];
-      for (const std::uint32_t* p = first; p < last && !failed; ++p) {
-        const std::uint32_t j = *p;
-        if (!ff.row_failed[j]) continue;
-        for (std::size_t k = offset[j]; k < offset[j + 1] && !failed; ++k)
-          failed = intact[k] == 0 && (nb[k] == i || std::binary_search(first, last, nb[k]));
+      if (intact != nullptr && ff.row_failed[i]) {
+        ff.exact[i] = 1;
+        continue;
       }
-      if (failed) ff.exact[i] = 1;
+      // Whether a member's row has a failed bond (then the search below); read in the screen's
+      // pass where there is one.
+      bool member_failed = intact != nullptr;
+      if (!moved) {  // at the reference state: no strain, and b^i = K 0
+        if (!ff.corotated) ff.linear_force[i] = Vec3::Zero();
+      } else if (ff.corotated) {
+        if (!(corotated_screen(body, ff, i) < T2)) {
+          ff.exact[i] = 1;
+          continue;
+        }
+      } else {
+        // b^i = K^ii u^i + sum_j K^ij u^j summed as apply_linear_operator sums it (row_product;
+        // the tests compare the two bit for bit), and the screen bounded through the family's
+        // shortest bond: max_j |u^j - u^i|^2 < T^2 L_min^2 (1 - 1e-12) makes every |u^j - u^i|^2 /
+        // L^2, rounded, less than T^2: the bond-by-bond screen's decision without its divisions.
+        // Only a point near or past the tolerance takes the bond-by-bond screen.
+        const Vec3 ui = body.displacement[i];
+        double most = 0;  // max_j |u^j - u^i|^2
+        std::uint8_t failed = 0;
+        const Vec3 b = row_product(ff.op, body, i, [&](std::uint32_t j, const Vec3& uj) {
+          most = std::max(most, (uj - ui).squaredNorm());
+          if (intact != nullptr) failed |= ff.row_failed[j];
+        });
+        ff.linear_force[i] = b;
+        member_failed = failed != 0;
+        if (!(most < T2 * ff.shortest_bond2[i] * (1 - 1e-12)) && !passes_screen(body, i, T2)) {
+          ff.exact[i] = 1;
+          continue;
+        }
+      }
+      if (member_failed && failed_bond_among_family(body, ff, i)) ff.exact[i] = 1;
     }
     // Centre i is skipped when i and every upper neighbour (j > i) are linear.
 #pragma omp for schedule(static) reduction(+ : exact_count)

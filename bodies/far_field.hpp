@@ -46,6 +46,9 @@ struct FarField {
   // the family as the screen (both read every member's displacement), for the points the
   // screen passes; exact points' entries are stale.
   std::vector<Vec3> linear_force;
+  // Per point, its family's shortest reference bond squared (+inf for an empty family): the
+  // screen's bound without a division per bond (classify_far_field).
+  std::vector<double> shortest_bond2;
   double exact_fraction() const {
     return exact.empty() ? 0.0
                          : static_cast<double>(exact_count) / static_cast<double>(exact.size());

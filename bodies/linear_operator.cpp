@@ -99,18 +99,6 @@ LinearOperator linear_operator_by_class(const Body& body) {
   return assemble_rows(body, operator_row_classes(body));
 }
 
-namespace {
-// Row i of K times the body's displacements.
-Vec3 row_product(const LinearOperator& op, const Body& body, std::size_t i) {
-  const Eigen::Matrix3d* row = &op.block[op.row[i]];
-  Vec3 sum = row[0] * body.displacement[i];
-  std::size_t slot = 1;
-  for (std::size_t k = body.family.offset[i]; k < body.family.offset[i + 1]; ++k, ++slot)
-    sum += row[slot] * body.displacement[body.family.neighbour[k]];
-  return sum;
-}
-}  // namespace
-
 double linear_energy_density(const LinearOperator& op, const Body& body, std::size_t i) {
   const Eigen::Matrix3d* row = &op.block[op.row[i]];
   const Vec3 ui = body.displacement[i];
@@ -140,7 +128,8 @@ void apply_linear_operator(const LinearOperator& op, const Body& body, std::vect
   const std::size_t n = body.size();
   b.resize(n);
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) b[i] = row_product(op, body, i);
+  for (std::size_t i = 0; i < n; ++i)
+    b[i] = row_product(op, body, i, [](std::size_t, const Vec3&) {});
 }
 
 void apply_linear_operator_rows_corotated(const LinearOperator& op, const Body& body,

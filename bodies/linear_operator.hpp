@@ -49,6 +49,33 @@ LinearOperator reference_linear_operator(const Body& body);
 // the result is reference_linear_operator's bit for bit.
 LinearOperator linear_operator_by_class(const Body& body);
 
+// Row i of K times the body's displacements, b^i = K^ii u^i + sum_j K^ij u^j, with
+// visit(j, u^j) called for each member j in the family's order (the far field's screen reads the
+// same displacements in the same pass). Summed in two partial sums over alternate members, added
+// at the end: each block's product then waits on the one two members back, not on the last (one
+// chain of additions bounded the pass). Every caller sums in this order: bit for bit alike.
+template <class Visit>
+inline Vec3 row_product(const LinearOperator& op, const Body& body, std::size_t i, Visit&& visit) {
+  const Eigen::Matrix3d* row = &op.block[op.row[i]] + 1;
+  const std::uint32_t* member = body.family.neighbour.data() + body.family.offset[i];
+  const std::size_t count = body.family.offset[i + 1] - body.family.offset[i];
+  const Vec3* u = body.displacement.data();
+  Vec3 even = op.block[op.row[i]] * u[i], odd = Vec3::Zero();
+  std::size_t s = 0;
+  for (; s + 1 < count; s += 2) {
+    const std::uint32_t j = member[s], k = member[s + 1];
+    visit(j, u[j]);
+    visit(k, u[k]);
+    even += row[s] * u[j];
+    odd += row[s + 1] * u[k];
+  }
+  if (s < count) {
+    visit(member[s], u[member[s]]);
+    even += row[s] * u[member[s]];
+  }
+  return even + odd;
+}
+
 // b^i = sum_c K^ic u^c with the body's displacements, for every point.
 void apply_linear_operator(const LinearOperator& op, const Body& body, std::vector<Vec3>& b);
 // The corotated rows (far_field.hpp): b^i = R^i sum_j K^ij (R^iT dx^ij - dX^ij) for the rows with

@@ -161,6 +161,45 @@ TEST_CASE(
   }
 }
 
+// A uniform stretch along x at a multiple g / T of the tolerance: |u^j - u^i| / L^ij = g |n_x| for
+// every bond, so the screen is g wherever a bond runs along x, while the largest |u^j - u^i| over
+// a family is the horizon's g (m dx) against the shortest bond's dx. The classification's bound
+// through the shortest bond cannot decide such a point (its |u^j - u^i|^2 / L_min^2 is m^2 g^2):
+// every point takes the bond-by-bond screen, and the decision is the definition's on either
+// side of the tolerance.
+TEST_CASE("far field: points the shortest-bond bound cannot decide get the bond-by-bond screen",
+          "[far_field]") {
+  kernel_comparison::ThreadCountGuard guard;
+  for (const FarScene& fs : scenes()) {
+    if (fs.form != ForceForm::energy_consistent) continue;  // the screen does not read the form
+    std::mt19937 rng(13);
+    Body body = scene_body(fs, 0.0, rng);
+    const double T = 1e-4;
+    for (double ratio : {0.97, 1.03}) {
+      for (std::size_t i = 0; i < body.size(); ++i)
+        body.displacement[i] = Vec3(ratio * T * body.reference_position[i].x(), 0, 0);
+      const std::vector<std::uint8_t> expected = expected_exact(body, T);
+      for (int threads : {1, 2}) {
+        omp_set_num_threads(threads);
+        INFO(label(fs) << ", g = " << ratio << " T, " << threads << " threads");
+        ckpd::FarField f = ckpd::make_far_field(body, T);
+        ckpd::classify_far_field(body, f);
+        std::size_t mismatched = 0, exact = 0;
+        for (std::size_t i = 0; i < body.size(); ++i) {
+          mismatched += f.exact[i] != expected[i];
+          exact += f.exact[i];
+        }
+        CHECK(mismatched == 0);
+        if (ratio < 1) {
+          CHECK(exact == 0);
+        } else {
+          CHECK(exact > body.size() / 2);  // the bonds within 14 degrees of x reach T
+        }
+      }
+    }
+  }
+}
+
 TEST_CASE(
     "far field with every point exact is the symmetric kernel bit for bit; with every "
     "point linear the linear operator bit for bit",
