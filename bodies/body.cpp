@@ -331,6 +331,8 @@ Body make_body(BodyDefinition def) {
   }
   if (!body.has_pairs() && !body.has_triples())
     body.upper_bonds = build_upper_bonds(body.reference_position, body.family);
+  else if (!body.stencil)
+    body.upper_rows = build_upper_rows(body);
   if (force_model(body).prepare != nullptr) force_model(body).prepare(body);
   return body;
 }

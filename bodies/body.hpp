@@ -13,6 +13,7 @@
 #include "bodies/force_model.hpp"
 #include "bodies/material.hpp"
 #include "bodies/upper_bonds.hpp"
+#include "bodies/upper_rows.hpp"
 #include "bodies/vec.hpp"
 
 namespace ckpd {
@@ -151,6 +152,9 @@ struct Body {
   // A body without two- and three-neighbour sets: its bonds' reference lengths, each bond once
   // (upper_bonds.hpp; the bond-only kernel's table); null for the others.
   std::shared_ptr<const UpperBonds> upper_bonds;
+  // A body with sets on the general path: its centres' adjacency rows (upper_rows.hpp), or null
+  // (a stencil, no sets, or beyond the table's memory limit).
+  std::shared_ptr<const UpperRows> upper_rows;
   // Computed once from the reference configuration (make_body).
   SetScreens screens;
 

@@ -125,6 +125,7 @@ BodyRestriction restrict_body(const Body& body, const std::vector<std::uint32_t>
     s.stencil = std::move(stencil);
   }
   if (body.upper_bonds) s.upper_bonds = build_upper_bonds(s.reference_position, s.family);
+  if (body.upper_rows) s.upper_rows = build_upper_rows(s);
   return r;
 }
 

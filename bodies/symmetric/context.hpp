@@ -182,6 +182,8 @@ struct ContextBase {
   bool all_edges = false;
   // The far field's exact points, or null (SymmetricKernelWorkspace::exact_point).
   const std::uint8_t* exact = nullptr;
+  // The general path's adjacency rows, built once (upper_rows.hpp), or null: gathered per centre.
+  const UpperRows* upper_rows = nullptr;
 };
 
 // The context with the body's force model: the kernels ask it for every set's law.

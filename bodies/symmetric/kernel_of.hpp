@@ -43,7 +43,10 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
     fused.failing = workspace.failing.data();
     fused.touched = workspace.touched.data();
   }
-  if (uses_lattice_stencil(body)) ctx.stencil = body.stencil.get();
+  if (uses_lattice_stencil(body))
+    ctx.stencil = body.stencil.get();
+  else if (body.upper_rows != nullptr && body.upper_rows->matches(body.family))
+    ctx.upper_rows = body.upper_rows.get();
   // Per point, whether a bond of its row has failed: a centre with none in its own row and its
   // upper neighbours' has an intact family (its rows need no intact copy, and its tetrahedra
   // go to the groups alone: intact_pair_loop).

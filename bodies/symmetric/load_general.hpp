@@ -40,9 +40,15 @@ inline std::size_t load_upper_family(const Context<Model>& ctx, std::size_t i,
   }
   mark_exact_slots(ctx, t, i);
   if (!rows) return m;
-  // No failed bond in the rows of i and its upper neighbours: the intact rows are the adjacency
-  // (as on the stencil path), not built.
-  build_csr_rows(ctx, t, t.adj.data(), failed_near);
+  // The adjacency rows: copied from the body's table where it has one, else gathered from the
+  // CSR rows. No failed bond in the rows of i and its upper neighbours: the intact rows are the
+  // adjacency (as on the stencil path), not built.
+  if (ctx.upper_rows != nullptr) {
+    std::copy_n(&ctx.upper_rows->words[ctx.upper_rows->start[i]], m * W, t.adj.data());
+    if (failed_near) build_csr_rows(ctx, t, nullptr);
+  } else {
+    build_csr_rows(ctx, t, t.adj.data(), failed_near);
+  }
   t.intact_is_adjacency = !failed_near;
   return m;
 }

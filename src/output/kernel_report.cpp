@@ -39,7 +39,10 @@ std::string kernel_path_note(const Body& body) {
     os << "lattice stencil (" << st.slots << " offsets, " << st.pairs << " pairs, " << st.triples
        << " triples, " << static_cast<double>(st.bytes()) / 1e6 << " MB)";
   } else {
-    os << "general path (" << general_reason(body) << ")";
+    os << "general path (" << general_reason(body);
+    if (body.upper_rows)
+      os << "; adjacency rows " << static_cast<double>(body.upper_rows->bytes()) / 1e6 << " MB";
+    os << ")";
   }
   return os.str();
 }
@@ -50,7 +53,10 @@ nlohmann::ordered_json kernel_path_summary(const Body& body) {
   if (uses_lattice_stencil(body))
     j = {{"model", model}, {"path", "stencil"}, {"stencil_bytes", body.stencil->bytes()}};
   else
-    j = {{"model", model}, {"path", "general"}, {"note", general_reason(body)}};
+    j = {{"model", model},
+         {"path", "general"},
+         {"note", general_reason(body)},
+         {"adjacency_rows_bytes", body.upper_rows ? body.upper_rows->bytes() : 0}};
   // CKPD bodies (the default law and the Seth-Hill one, either force form) report their strain
   // measure and force form; state-based bodies their strain measure.
   if (body.model == &state_based_kernels()) {
