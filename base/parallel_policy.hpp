@@ -13,6 +13,12 @@ struct ParallelThresholds {
   // Per-point loops of the engine over one body (measured: 121 balls of 81 points, 9.8 ms per
   // step on one thread, 119 ms on two of a loaded machine with every small loop parallel).
   std::size_t engine_points = 4096;
+  // The engine's streaming per-point loops over one body (the kicks, the drift, the loads, the
+  // work increments: a few ns per point). Their threads wait asleep between regions (ckpd runs
+  // with OMP_WAIT_POLICY=passive unless told otherwise), and waking them costs tens of us on a
+  // VM: measured on the sphere-disc's 15,720-point disc at 2 threads, its far-field run (37 ms a
+  // step, about 25 parallel regions) 1.4-4.9 % faster with these loops serial (PERFORMANCE.md).
+  std::size_t engine_loop_points = std::size_t{1} << 15;
   // Contact narrow-phase work (points or targets; the point sums use a quarter of it) and mesh
   // wall points (measured: the per-step drift check over a 16k-point disc took 6 ms per step on
   // two threads of a loaded machine, 0.1 ms on one).
@@ -32,7 +38,7 @@ inline ParallelThresholds& parallel_thresholds() {
 class ScopedParallelThresholds {
  public:
   explicit ScopedParallelThresholds(std::size_t work) : saved_(parallel_thresholds()) {
-    parallel_thresholds() = {work, work, work};
+    parallel_thresholds() = {work, work, work, work};
   }
   ~ScopedParallelThresholds() { parallel_thresholds() = saved_; }
   ScopedParallelThresholds(const ScopedParallelThresholds&) = delete;

@@ -46,9 +46,15 @@ void apply_prescribed_motion(SceneBody& sb, double t, bool velocity, bool accele
   }
 }
 
-// Per-point loops over more points than this run in parallel (base/parallel_policy.hpp).
+// A body of more points than this is "large": it takes every thread for its kernel, one after
+// another, where small ones run side by side (base/parallel_policy.hpp).
 std::size_t parallel_points() {
   return parallel_thresholds().engine_points;
+}
+
+// Streaming per-point loops over more points than this run in parallel.
+std::size_t parallel_loop_points() {
+  return parallel_thresholds().engine_loop_points;
 }
 
 // Work increment of the external loads and reactions over a displacement increment dt*v:
@@ -65,7 +71,7 @@ double half_work_increment(const Body& b, double dt) {
   std::vector<double>& partial = partial_buffer;
   partial.assign(static_cast<std::size_t>(omp_get_max_threads()), 0.0);
   const std::size_t n = b.size();
-#pragma omp parallel if (n > parallel_points())
+#pragma omp parallel if (n > parallel_loop_points())
   {
     double w = 0;
 #pragma omp for schedule(static)
@@ -284,7 +290,7 @@ void Simulation::evaluate_forces(bool with_energy) {
   auto add_loads_and_energy = [&](std::size_t index) {
     Body& b = scene_.bodies[index].body;
     const std::size_t n = b.size();
-#pragma omp parallel for schedule(static) if (n > parallel_points())
+#pragma omp parallel for schedule(static) if (n > parallel_loop_points())
     for (std::size_t i = 0; i < n; ++i) b.force_density[i] += b.external_force_density[i];
     if (with_energy) strain[index] = strain_energy(b);
   };
@@ -384,7 +390,7 @@ void Simulation::evaluate_forces(bool with_energy) {
     }
     const double inv_rho = 1 / b.density;
     const std::size_t n = b.size();
-#pragma omp parallel for schedule(static) if (n > parallel_points())
+#pragma omp parallel for schedule(static) if (n > parallel_loop_points())
     for (std::size_t i = 0; i < n; ++i) b.acceleration[i] = inv_rho * b.force_density[i];
     apply_prescribed_motion(sb, time_, false, true);
   }
@@ -482,11 +488,11 @@ void Simulation::advance(bool with_energy) {
       continue;
     }
     const std::size_t n = b.size();
-#pragma omp parallel for schedule(static) if (n > parallel_points())
+#pragma omp parallel for schedule(static) if (n > parallel_loop_points())
     for (std::size_t i = 0; i < n; ++i) b.velocity[i] += 0.5 * dt * b.acceleration[i];
     apply_prescribed_motion(sb, time_ + 0.5 * dt, true, false);
     external_work_ += half_work_increment(b, dt);
-#pragma omp parallel for schedule(static) if (n > parallel_points())
+#pragma omp parallel for schedule(static) if (n > parallel_loop_points())
     for (std::size_t i = 0; i < n; ++i) b.displacement[i] += dt * b.velocity[i];
   }
   time_ = next_time();
@@ -510,7 +516,7 @@ void Simulation::advance(bool with_energy) {
     double worst = 0;
     std::size_t worst_point = 0;
     bool finite = true;
-#pragma omp parallel if (n > parallel_points())
+#pragma omp parallel if (n > parallel_loop_points())
     {
       double my_worst = 0;
       std::size_t my_point = 0;
