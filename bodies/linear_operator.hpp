@@ -56,11 +56,12 @@ LinearOperator linear_operator_by_class(const Body& body);
 // chain of additions bounded the pass). Every caller sums in this order: bit for bit alike.
 template <class Visit>
 inline Vec3 row_product(const LinearOperator& op, const Body& body, std::size_t i, Visit&& visit) {
-  const Eigen::Matrix3d* row = &op.block[op.row[i]] + 1;
+  const Eigen::Matrix3d* own = &op.block[op.row[i]];  // K^ii, then the members' blocks
+  const Eigen::Matrix3d* row = own + 1;
   const std::uint32_t* member = body.family.neighbour.data() + body.family.offset[i];
   const std::size_t count = body.family.offset[i + 1] - body.family.offset[i];
   const Vec3* u = body.displacement.data();
-  Vec3 even = op.block[op.row[i]] * u[i], odd = Vec3::Zero();
+  Vec3 even = *own * u[i], odd = Vec3::Zero();
   std::size_t s = 0;
   for (; s + 1 < count; s += 2) {
     const std::uint32_t j = member[s], k = member[s + 1];

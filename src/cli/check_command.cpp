@@ -38,14 +38,17 @@ struct CheckOptions {
 };
 
 // Bytes the body's own arrays hold: state and reference vectors, per-point constants, the CSR
-// family and its intact flags. (Kernel scratch adds threads x points x 32 bytes.)
+// family and its intact flags, the general path's adjacency rows where the body has them.
+// (Kernel scratch adds threads x points x 32 bytes.)
 double body_megabytes(const Body& b) {
   const double n = static_cast<double>(b.size());
   const double per_point = 6 * sizeof(Vec3)      // X, u, v, a, b_ext, b
                            + 8 * sizeof(double)  // volume, beta, dv1-3, k, W, (spare)
                            + 2 * sizeof(std::uint32_t) + sizeof(std::size_t) + 1;
   const double per_bond_entry = sizeof(std::uint32_t) + 1;
-  return (n * per_point + static_cast<double>(b.family.bond_entries()) * per_bond_entry) / 1e6;
+  const double rows = b.upper_rows ? static_cast<double>(b.upper_rows->bytes()) : 0.0;
+  return (n * per_point + static_cast<double>(b.family.bond_entries()) * per_bond_entry + rows) /
+         1e6;
 }
 
 std::string megabytes_text(double mb) {
