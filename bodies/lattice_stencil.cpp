@@ -72,7 +72,8 @@ bool bit(const std::uint64_t* row, std::size_t s) {
 std::size_t LatticeStencil::bytes() const {
   return coord.size() * sizeof(std::int32_t) + slot_table.size() * sizeof(std::int32_t) +
          offset.size() * sizeof(Offset) + (inv_length.size() + length.size()) * sizeof(double) +
-         adjacency.size() * sizeof(std::uint64_t) + pair_base.size() * sizeof(std::uint32_t) +
+         (adjacency.size() + sum_inside.size()) * sizeof(std::uint64_t) +
+         pair_base.size() * sizeof(std::uint32_t) +
          (inv_area.size() + area_z.size()) * sizeof(double) +
          triple_row.size() * sizeof(std::uint64_t) + triple_base.size() * sizeof(std::uint32_t) +
          inv_volume.size() * sizeof(double);
@@ -278,6 +279,10 @@ StencilBuild build_lattice_stencil(const Body& body) {
         ++st.pairs;
       }
   }
+  st.sum_inside.assign(M * W, 0);
+  for (std::size_t a = 0; a < M; ++a)
+    for (std::size_t s = 0; s < M; ++s)
+      if (st.sum_slot(a, s) >= 0) set_bit(&st.sum_inside[a * W], s);
   const double f = body.degenerate_fraction;
   if (!(f >= 1e-12)) return fail("degenerate_fraction below 1e-12");
 

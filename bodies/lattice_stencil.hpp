@@ -45,6 +45,12 @@ struct LatticeStencil {
   std::vector<double> length;              // per slot: L
   // slots x words: row a holds the slots b > a whose offset from a is within the horizon.
   std::vector<std::uint64_t> adjacency;
+  // slots x words: row a holds the upper slots s whose offset added to a's, offset[a] +
+  // offset[s], is a slot too (then it is one of row a's adjacency slots: with a fixed offset
+  // added the (z, y, x) order stays, so the k-th slot of sum_inside row a lands on the k-th of
+  // adjacency row a). A neighbour at upper slot s of the point at slot a is the centre's
+  // neighbour exactly when s is in row a.
+  std::vector<std::uint64_t> sum_inside;
   // Pairs are numbered slot by slot: pair (a, b) is pair_base[a] + (rank of b in row a).
   std::vector<std::uint32_t> pair_base;
   // Per pair, with the two-neighbour family: 1 / |A| of the reference area vector P x Q of the
@@ -65,6 +71,18 @@ struct LatticeStencil {
     const int side = 2 * reach + 1;
     return slot_table[static_cast<std::size_t>(
         ((b[2] - a[2] + reach) * side + b[1] - a[1] + reach) * side + b[0] - a[0] + reach)];
+  }
+  // The upper slot of offset[a] + offset[s]: where the neighbour at upper slot s of the point
+  // at upper slot a sits from the centre; -1 when that offset is no stencil offset (no neighbour
+  // of the centre).
+  int sum_slot(std::size_t a, std::size_t s) const {
+    const std::array<int, 3>& p = offset[a];
+    const std::array<int, 3>& q = offset[s];
+    const int x = p[0] + q[0], y = p[1] + q[1], z = p[2] + q[2];
+    if (x < -reach || x > reach || y < -reach || y > reach || z > reach) return -1;  // z >= 0
+    const int side = 2 * reach + 1;
+    return slot_table[static_cast<std::size_t>(((z + reach) * side + y + reach) * side + x +
+                                               reach)];
   }
   std::size_t bytes() const;
 };

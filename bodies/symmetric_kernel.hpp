@@ -58,6 +58,9 @@ class SymmetricKernelWorkspace {
   // one (kAllFailed), and where it has some, the CSR position of its first neighbour j > i.
   std::vector<std::uint8_t> row_failed;
   std::vector<std::size_t> row_upper;
+  // On the stencil path, for a point with some failed bonds: its failed upper bonds as a bit row
+  // over its own upper slots (the stencil's words per point; rows of other points are stale).
+  std::vector<std::uint64_t> failed_upper;
   // The far field (far_field.hpp): when set, centres i with skip_centre[i] != 0 are not
   // processed (nothing exact among i and its upper family); null: every centre.
   const std::uint8_t* skip_centre = nullptr;

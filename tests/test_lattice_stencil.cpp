@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "bodies/bit_move.hpp"
 #include "bodies/body.hpp"
 #include "bodies/lattice_stencil.hpp"
 #include "bodies/symmetric_kernel.hpp"
@@ -131,6 +132,55 @@ TEST_CASE("stencil kernel equals the reference kernel on perturbed, damaged latt
           }
         }
       }
+    }
+  }
+}
+
+// The stencil path's intact rows (symmetric/load_stencil.hpp) move a neighbour's failed upper
+// bonds from its own slots to the centre's with move_bits, which needs: sum_inside row a holds
+// exactly the slots s whose offset added to a's is a slot, and moving a single slot s from
+// sum_inside row a to adjacency row a lands on sum_slot(a, s), the slot of that sum.
+TEST_CASE("a neighbour's upper slots move to the centre's slots in order", "[lattice_stencil]") {
+  std::mt19937 rng(3);
+  for (const Scene& s :
+       {Scene{"2D, m=3.015", 2, 0.4, 0.0, 15, 14, 1},
+        Scene{"3D, m=3.7", 3, 0.3, 0.0, 8, 8, 7, false, 3.7},
+        Scene{"3D two-layer plate, m=5.015", 3, 0.2, 0.0, 13, 12, 2, false, 5.015}}) {
+    DYNAMIC_SECTION(s.label) {
+      const Body body =
+          ckpd::make_body(block(s.dimension, s.nx, s.ny, s.nz, constants_for(s), 0.0, rng, s.m));
+      REQUIRE(body.stencil);
+      const ckpd::LatticeStencil& st = *body.stencil;
+      const std::size_t M = st.slots, W = st.words;
+      INFO("slots " << M << ", words " << W);
+      std::size_t moved = 0, mismatches = 0;
+      for (std::size_t a = 0; a < M; ++a) {
+        const std::uint64_t* inside = &st.sum_inside[a * W];
+        for (std::size_t t = 0; t < M; ++t) {
+          const bool in = (inside[t >> 6] >> (t & 63)) & 1;
+          const int b = st.sum_slot(a, t);
+          // sum_slot against the offsets themselves.
+          bool is_slot = false;
+          for (std::size_t c = 0; c < M; ++c)
+            if (st.offset[c][0] == st.offset[a][0] + st.offset[t][0] &&
+                st.offset[c][1] == st.offset[a][1] + st.offset[t][1] &&
+                st.offset[c][2] == st.offset[a][2] + st.offset[t][2]) {
+              is_slot = true;
+              mismatches += b != static_cast<int>(c);
+            }
+          mismatches += in != is_slot || (b >= 0) != is_slot;
+          if (!in) continue;
+          std::vector<std::uint64_t> one(W, 0), out(W, 0);
+          one[t >> 6] = std::uint64_t{1} << (t & 63);
+          ckpd::move_bits(one.data(), inside, &st.adjacency[a * W], W, out.data());
+          std::vector<std::uint64_t> expected(W, 0);
+          expected[static_cast<std::size_t>(b) >> 6] = std::uint64_t{1} << (b & 63);
+          mismatches += out != expected;
+          ++moved;
+        }
+      }
+      CHECK(mismatches == 0);
+      CHECK(moved == st.pairs);  // every adjacency bit is the image of one neighbour slot
     }
   }
 }

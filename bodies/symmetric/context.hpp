@@ -176,6 +176,8 @@ struct ContextBase {
   static constexpr std::uint8_t kSomeFailed = 1, kAllFailed = 2;
   const std::uint8_t* row_failed = nullptr;
   const std::size_t* row_upper = nullptr;
+  // Stencil path: SymmetricKernelWorkspace::failed_upper (with row_failed), else null.
+  const std::uint64_t* failed_upper = nullptr;
 
   bool bond_intact(std::size_t k) const { return intact == nullptr || intact[k] != 0; }
   // DamageRule::all_edges with damage on: a set is active for all its vertices or none.
@@ -403,7 +405,7 @@ inline void build_csr_rows(const ContextBase& ctx, SymmetricKernelThread& t,
       }
     }
     if (irow == nullptr) continue;
-    // The intact row: the adjacency row (built above, or the stencil's on the present slots)
+    // The intact row: the adjacency row (built above, or copied from the upper-rows table)
     // less the bonds that failed in up[a]'s CSR row. Most rows have none, even near damage
     // (row_failed); a row whose bonds all failed is empty, as filled above (in a hole's damage
     // such rows held 44 % of the failed entries this loop visited: sphere-disc far field,

@@ -55,6 +55,11 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
     if (workspace.row_upper.size() < n) workspace.row_upper.resize(n);
     ctx.row_failed = workspace.row_failed.data();
     ctx.row_upper = workspace.row_upper.data();
+    if (ctx.stencil != nullptr) {
+      const std::size_t words = n * ctx.stencil->words;
+      if (workspace.failed_upper.size() < words) workspace.failed_upper.resize(words);
+      ctx.failed_upper = workspace.failed_upper.data();
+    }
   }
   int team = 1;
   // Static schedule: which thread handles which point is a function of the thread count only,
@@ -87,11 +92,24 @@ SymmetricKernelStats compute_of(Body& body, bool with_energy, SymmetricKernelWor
         workspace.row_failed[i] = failed == 0             ? 0
                                   : failed == end - begin ? ContextBase::kAllFailed
                                                           : ContextBase::kSomeFailed;
-        if (failed != 0 && failed != end - begin)
-          workspace.row_upper[i] =
-              static_cast<std::size_t>(std::upper_bound(ctx.neighbour + begin, ctx.neighbour + end,
-                                                        static_cast<std::uint32_t>(i)) -
-                                       ctx.neighbour);
+        if (failed == 0 || failed == end - begin) continue;
+        const std::size_t upper =
+            static_cast<std::size_t>(std::upper_bound(ctx.neighbour + begin, ctx.neighbour + end,
+                                                      static_cast<std::uint32_t>(i)) -
+                                     ctx.neighbour);
+        workspace.row_upper[i] = upper;
+        // The stencil path's failed upper bonds in i's own slots, once per row and step: every
+        // centre with i among its upper neighbours reads them (load_stencil.hpp), where each
+        // scanned i's flags for itself.
+        if (ctx.failed_upper != nullptr) {
+          const LatticeStencil& st = *ctx.stencil;
+          std::uint64_t* row = workspace.failed_upper.data() + i * st.words;
+          std::fill_n(row, st.words, 0);
+          for_each_flag_other_than(ctx.intact, upper, end, 1, [&](std::size_t k) {
+            const std::size_t s = static_cast<std::size_t>(st.slot(i, ctx.neighbour[k]));
+            row[s >> 6] |= std::uint64_t{1} << (s & 63);
+          });
+        }
       }
     }
     const bool penalty = ctx.model.has_penalty();

@@ -1,14 +1,44 @@
 #pragma once
 // The lattice stencil path's load of point i's upper family (lattice_stencil.hpp).
+#include "bodies/bit_move.hpp"
 #include "bodies/symmetric/context.hpp"
 
 namespace ckpd::symmetric {
 
+// The intact rows of a centre near damage: row a is the adjacency row less the bonds of up[a]
+// that failed, read from up[a]'s failed upper bonds in its own slots (failed_upper, which
+// compute_of builds once per row and step) moved to the centre's slots: those in the stencil's
+// sum_inside row a, in order, to the slots of its adjacency row a (PEXT, PDEP). Equal bit for
+// bit to build_csr_rows' rows, which scan up[a]'s flags again at every centre and look each
+// failed bond's slot up.
+inline void intact_rows_stencil(const ContextBase& ctx, SymmetricKernelThread& t) {
+  const LatticeStencil& st = *ctx.stencil;
+  const std::size_t W = t.words;
+  for (std::size_t n = 0; n < t.count; ++n) {
+    const std::size_t a = t.list[n];
+    const std::uint32_t j = t.up[a];
+    std::uint64_t* irow = &t.adj_intact[a * W];
+    const std::uint8_t state = ctx.row_failed[j];
+    if (state == ContextBase::kAllFailed) {
+      std::fill_n(irow, W, 0);
+      continue;
+    }
+    const std::uint64_t* adj = &t.adj[a * W];
+    if (state == 0) {
+      std::copy_n(adj, W, irow);
+      continue;
+    }
+    move_bits(ctx.failed_upper + std::size_t{j} * W, &st.sum_inside[a * W], &st.adjacency[a * W], W,
+              irow);
+    for (std::size_t w = 0; w < W; ++w) irow[w] = adj[w] & ~irow[w];
+  }
+}
+
 // The stencil path's load: slots are the stencil's upper offsets; each neighbour j > i of i
 // goes to the slot of its lattice offset, with the same offsets, flags and weights as
 // load_upper_family. Adjacency rows are the stencil's rows restricted to the present slots;
-// intact rows are merged from the CSR rows (as load_upper_family does) only when a bond near i
-// has failed. Returns the number of present slots (0: nothing to do).
+// intact rows are built only when a bond near i has failed (intact_rows_stencil). Returns the
+// number of present slots (0: nothing to do).
 template <class Model>
 inline std::size_t load_upper_family_stencil(const Context<Model>& ctx, std::size_t i,
                                              SymmetricKernelThread& t, bool rows) {
@@ -67,7 +97,13 @@ inline std::size_t load_upper_family_stencil(const Context<Model>& ctx, std::siz
     for (std::size_t w = 0; w < W; ++w) row[w] = srow[w] & present[w];
   }
   t.intact_is_adjacency = !failed_near;
-  if (failed_near) build_csr_rows(ctx, t, nullptr);
+  if (failed_near) {
+    if (ctx.failed_upper != nullptr) {
+      intact_rows_stencil(ctx, t);
+    } else {
+      build_csr_rows(ctx, t, nullptr);
+    }
+  }
   return count;
 }
 
