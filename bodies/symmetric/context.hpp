@@ -285,6 +285,14 @@ inline void fill_slot(const Context<Model>& ctx, SymmetricKernelThread& t, std::
   t.fx[a] = t.fy[a] = t.fz[a] = t.w[a] = 0;
 }
 
+// The first word of a row that can hold slots after slot b (rows of later slots only: the words
+// below b's are zero). Rows of a few words are looped over whole: a trip count the branch
+// predictor knows, where starting at b's word mispredicted the loop's exit at every other pair
+// (a fifth of a far-field linear centre's pair-loop samples, m = 4.015 sphere-disc, two words).
+inline std::size_t first_word_after(std::size_t b, std::size_t words) {
+  return words <= 4 ? 0 : b >> 6;
+}
+
 // The slots b of bit row `row` of slot a (its words from a's on), in increasing order, each with
 // its pair's number in the stencil's tables on the stencil path (pair_base[a] + the rank of b in
 // a's stencil row; 0 on the general path): f(b, number).

@@ -160,7 +160,8 @@ inline void intact_pair_loop(const ContextBase& ctx, SymmetricKernelThread& t, s
       std::uint64_t any = 0;
       std::uint64_t* lane = words + static_cast<std::size_t>(group.n);
       const std::uint64_t* ib = damaged ? intact_row(b) : nullptr;
-      for (std::size_t wc = b >> 6; wc < W; ++wc) {
+      // The pair's candidates are slots c > b (first_word_after).
+      for (std::size_t wc = first_word_after(b, W); wc < W; ++wc) {
         std::uint64_t cand = first[wc] & m[wc];
         if (damaged) cand &= ib[wc];
         lane[wc * batch::kG] = cand;

@@ -41,14 +41,14 @@ struct PairGroup {
   // Per lane: b's current and reference offsets (the lanes' p x q and P x Q follow with a's).
   alignas(8 * kG) double pb[3][kG] = {};
   alignas(8 * kG) double Pb[3][kG] = {};
-  std::size_t first_word = 0;  // the first lane's b >> 6: no lane has candidates below it
+  std::size_t first_word = 0;  // no lane has candidates below it (first_word_after the first b)
 
   // Lane n's candidate words (all four vertices active) in t.group_full: word w of lane l at
   // [w * kG + l], zero outside the lanes' pairs.
   static std::uint64_t* words(SymmetricKernelThread& t) { return t.group_full.data(); }
   void push(std::size_t slot, const SymmetricKernelThread& t) {
     const int l = n++;
-    if (l == 0) first_word = slot >> 6;
+    if (l == 0) first_word = first_word_after(slot, t.words);
     b[l] = slot;
     pb[0][l] = t.rx[slot];
     pb[1][l] = t.ry[slot];
