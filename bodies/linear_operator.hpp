@@ -303,15 +303,14 @@ void assemble_linear_operator_of(const Model& model, const Body& body, LinearOpe
   const bool vector_tetrahedra = kVolumeTetrahedra && Model::kTetrahedra && model.has_tetrahedra();
   std::exception_ptr error;
   std::atomic<bool> failed{false};
-  // energy_consistent: the centres whose sets reach an assembled row, listed first, so that the
-  // ordered loop below hands over only at those (each hand-over wakes a sleeping thread: over
+  // The centres whose sets reach an assembled row, listed first, so that the ordered loop below
+  // (energy_consistent) hands over only at those (each hand-over wakes a sleeping thread: over
   // every centre the loop took longer at 2 threads than at 1, sphere-disc m = 4.015).
   std::vector<std::uint32_t> writers;
-  if (energy_consistent)
-    for (std::ptrdiff_t c = 0; c < n; ++c)
-      if (linear_operator_detail::writes_assembled_row(op, body, static_cast<std::size_t>(c),
-                                                       false))
-        writers.push_back(static_cast<std::uint32_t>(c));
+  for (std::ptrdiff_t c = 0; c < n; ++c)
+    if (linear_operator_detail::writes_assembled_row(op, body, static_cast<std::size_t>(c),
+                                                     only_centre))
+      writers.push_back(static_cast<std::uint32_t>(c));
   const std::ptrdiff_t n_writers = static_cast<std::ptrdiff_t>(writers.size());
 #pragma omp parallel
   {
@@ -346,9 +345,6 @@ void assemble_linear_operator_of(const Model& model, const Body& body, LinearOpe
     // Centre c's sets into `local`; false once some centre has thrown (the error is kept).
     auto accumulate = [&](std::ptrdiff_t c) {
       if (failed.load(std::memory_order_relaxed)) return false;
-      if (!linear_operator_detail::writes_assembled_row(op, body, static_cast<std::size_t>(c),
-                                                        only_centre))
-        return false;
       try {
         s.load(body, static_cast<std::size_t>(c), body.damage_enabled, sets);
         const std::uint32_t centre = static_cast<std::uint32_t>(c);
@@ -382,10 +378,10 @@ void assemble_linear_operator_of(const Model& model, const Body& body, LinearOpe
       }
     } else {
 #pragma omp for schedule(dynamic, 16)
-      for (std::ptrdiff_t c = 0; c < n; ++c)
-        if (accumulate(c))
-          linear_operator_detail::apply_local(op, static_cast<std::uint32_t>(c), s, table,
-                                              local.data(), true);
+      for (std::ptrdiff_t w = 0; w < n_writers; ++w) {
+        const std::uint32_t c = writers[static_cast<std::size_t>(w)];
+        if (accumulate(c)) linear_operator_detail::apply_local(op, c, s, table, local.data(), true);
+      }
     }
   }
   if (error) std::rethrow_exception(error);

@@ -97,13 +97,7 @@ inline std::size_t load_upper_family_stencil(const Context<Model>& ctx, std::siz
     for (std::size_t w = 0; w < W; ++w) row[w] = srow[w] & present[w];
   }
   t.intact_is_adjacency = !failed_near;
-  if (failed_near) {
-    if (ctx.failed_upper != nullptr) {
-      intact_rows_stencil(ctx, t);
-    } else {
-      build_csr_rows(ctx, t, nullptr);
-    }
-  }
+  if (failed_near) intact_rows_stencil(ctx, t);  // failed_near: compute_of set failed_upper
   return count;
 }
 
