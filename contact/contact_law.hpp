@@ -10,13 +10,27 @@
 // since -dU/dx^i = c V^i V^j (l_c - r) dr/dx^i and dr/dx^i = (x^i - x^j)/r. U and its gradient
 // vanish at r = l_c, so the force switches on without a jump. In 2D the V are areas.
 //
-// Which delta: THEORY.md uses the horizon of the body that receives the force, so each side of a
-// pair has its own c. When the two horizons differ the two forces differ: the pair then pushes
-// on its own centre of mass with (c_i - c_j)(l_c - r) V^i V^j (momentum is not conserved) and
-// the forces are not conservative. The contact energy reported is then U with the mean
-// coefficient (c_i + c_j)/2, and the power of the difference, (c_i - c_j)/2 (l_c - r) V^i V^j
-// e . (v^i + v^j), shows up in the energy balance error. Giving the pair a `horizon` makes both
-// sides use it: equal and opposite, conservative.
+// Which delta. Each body's own coefficient c_I = 9 Ccon/(pi delta_I^5) is the seed's penalty
+// scaled to that body's horizon (THEORY.md section 5). Between two bodies the pair uses ONE
+// coefficient, symmetric in the two sides (`repulsive`, the default):
+//
+//   c = 2 c_A c_B / (c_A + c_B)      (the harmonic mean; c_A when c_A = c_B)
+//
+// the two bodies' penalties as springs in series, scaled so that equal sides (self-contact, one
+// resolution) keep the single body's c. The softer side governs: a fine body meeting a coarse one
+// is never pushed harder than the coarse body's own penalty allows (at most 2 c_coarse), so the
+// finer body is not overloaded and its stiffness does not shrink the step. Both points then
+// receive equal and opposite forces from the one potential U above: linear and angular momentum
+// are kept and the energy balance converges with dt. A rigid body or wall has no horizon and
+// takes its partner's, so c_A = c_B there. A `horizon` given for the pair or globally makes
+// both c equal to 9 Ccon/(pi delta^5) of it.
+//
+// The seed's own rule, `repulsive_own_horizon`, lets each receiver use its own c_I. When the
+// horizons differ the two forces differ: the pair pushes on its own centre of mass with
+// (c_i - c_j)(l_c - r) V^i V^j (momentum is not conserved) and the forces are not
+// conservative. The contact energy reported is then U with the mean coefficient
+// (c_i + c_j)/2, and the power of the difference, (c_i - c_j)/2 (l_c - r) V^i V^j
+// e . (v^i + v^j), shows up in the energy balance error. It is kept to reproduce the seed only.
 #include <memory>
 #include <string>
 
@@ -38,5 +52,11 @@ struct PairLaw {
 
 // 9 Ccon / (pi delta^5).
 double contact_coefficient(double stiffness, double horizon);
+
+// The pair's one coefficient from the two sides' own: their harmonic mean (a when a == b).
+double pair_coefficient(double a, double b);
+
+// The seed's non-conserving rule (each receiver its own horizon), chosen by this law name.
+inline constexpr const char* kOwnHorizonLaw = "repulsive_own_horizon";
 
 }  // namespace ckpd

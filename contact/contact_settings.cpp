@@ -13,6 +13,10 @@ double contact_coefficient(double stiffness, double horizon) {
   return 9 * stiffness / (std::numbers::pi * std::pow(horizon, 5));
 }
 
+double pair_coefficient(double a, double b) {
+  return a == b ? a : 2 * a * b / (a + b);
+}
+
 const ContactPairSetting* ContactSettings::pair_setting(std::size_t a, std::size_t b) const {
   if (a > b) std::swap(a, b);
   for (const ContactPairSetting& p : pairs)
@@ -85,8 +89,14 @@ std::optional<PairLaw> ContactSettings::law(const std::vector<ContactBody>& bodi
                                 "' and '" + std::string(B.points.name) +
                                 "' needs a horizon (delta of 9 Ccon/(pi delta^5)): give `horizon` "
                                 "for the pair or for all contact");
-  law.coefficient[0] = contact_coefficient(law.stiffness, ha);
-  law.coefficient[1] = contact_coefficient(law.stiffness, hb);
+  const double ca = contact_coefficient(law.stiffness, ha);
+  const double cb = contact_coefficient(law.stiffness, hb);
+  if (name == kOwnHorizonLaw) {
+    law.coefficient[0] = ca;
+    law.coefficient[1] = cb;
+  } else {
+    law.coefficient[0] = law.coefficient[1] = pair_coefficient(ca, cb);
+  }
   return finish();
 }
 

@@ -18,6 +18,7 @@
 #include "src/engine/decomposition.hpp"
 #include "src/engine/distribution.hpp"
 #include "src/engine/force_sharing.hpp"
+#include "src/engine/scene_warnings.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/geometry/work_estimate.hpp"
 #include "src/output/kernel_report.hpp"
@@ -275,6 +276,7 @@ int check(const CheckOptions& opt) {
       << "\n";
   if (std::isfinite(s.speed_step)) std::cout << "  " << contact_speed_note(s) << '\n';
   std::cout << contact_law_report(scene);
+  for (const std::string& w : scene_warnings(sim)) std::cout << "warning: " << w << '\n';
   if (opt.ranks > 0) print_decomposition(scene, opt.ranks);
   std::cout << "memory: ~" << megabytes_text(megabytes) << " of body data; peak RSS after set-up "
             << megabytes_text(peak_rss_mb()) << "\n";

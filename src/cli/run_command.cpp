@@ -21,6 +21,7 @@
 #include "src/engine/distribution.hpp"
 #include "src/engine/force_sharing.hpp"
 #include "src/engine/ranks.hpp"
+#include "src/engine/scene_warnings.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/geometry/work_estimate.hpp"
 #include "src/output/beta_report.hpp"
@@ -90,6 +91,7 @@ void print_setup(const Simulation& sim, std::ostream& os) {
   os << '\n';
   if (std::isfinite(s.speed_step)) os << "  " << contact_speed_note(s) << '\n';
   os << contact_law_report(sim.whole_scene());
+  for (const std::string& w : scene_warnings(sim)) os << "warning: " << w << '\n';
 }
 
 // What summary.json records of how the run was made: the command line, the overrides, the
@@ -256,6 +258,8 @@ int run(const RunOptions& opt) {
       }
     }
     if (!opt.quiet && root) std::cout << setup.str() << std::flush;
+    if (opt.quiet && root)  // warnings are not progress: --quiet keeps them, on stderr
+      for (const std::string& w : scene_warnings(sim)) std::cerr << "ckpd: warning: " << w << '\n';
 
     RunDriverOptions driver_options;
     driver_options.out = out;  // rank 0 writes the files (the ranks share frames, checkpoints)

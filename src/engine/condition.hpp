@@ -37,6 +37,9 @@ class Condition {
   virtual void add_external_force(Body&, double /*t*/) const {}
   // Bit c set: this condition prescribes the motion of component c of its points.
   virtual std::uint8_t prescribed_components() const { return 0; }
+  // Whether the prescription holds at time t (a velocity with a `duration` lets its points go
+  // after it; they then move under their forces).
+  virtual bool prescribes_at(double /*t*/) const { return true; }
   // Prescribed velocity and acceleration of component c at time t (for prescribed components).
   virtual double prescribed_velocity(int /*component*/, double /*t*/) const { return 0; }
   virtual double prescribed_acceleration(int /*component*/, double /*t*/) const { return 0; }

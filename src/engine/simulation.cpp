@@ -34,7 +34,7 @@ std::string format_position(const Vec3& p, int dimension) {
 void apply_prescribed_motion(SceneBody& sb, double t, bool velocity, bool acceleration) {
   for (const auto& c : sb.conditions) {
     const std::uint8_t mask = c->prescribed_components();
-    if (!mask) continue;
+    if (!mask || !c->prescribes_at(t)) continue;
     for (int k = 0; k < 3; ++k) {
       if (!(mask & (1u << k))) continue;
       const double v = c->prescribed_velocity(k, t), a = c->prescribed_acceleration(k, t);

@@ -1,10 +1,12 @@
 // `velocity`: prescribed velocity on a region, constant or ramped linearly from 0 over
-// `ramp_time` (THEORY.md section 7), or tabulated over time (`value: {table: [[t, vx, vy, vz],
+// `ramp_time` (THEORY.md section 7), optionally only for `duration` seconds from t = 0 (then
+// the points are let go and move under their forces: a finite pulse), or tabulated over time (`value: {table: [[t, vx, vy, vz],
 // ...], interpolation: linear | step}`, src/engine/time_table.hpp), on all or some components.
 // `fixed`: zero velocity. `velocity_table` (`times`, `values`, `interpolation`) is the same
 // condition as a `velocity` with a table value, spelt as the Python examples first wrote it.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "src/engine/condition.hpp"
@@ -17,14 +19,17 @@ namespace {
 class PrescribedVelocity : public Condition {
  public:
   PrescribedVelocity(std::vector<std::uint32_t> points, TimeTable value, std::uint8_t components,
-                     double ramp_time, bool steerable)
+                     double ramp_time, bool steerable,
+                     double duration = std::numeric_limits<double>::infinity())
       : value_(std::move(value)),
         components_(components),
         ramp_time_(ramp_time),
+        duration_(duration),
         steerable_(steerable) {
     points_ = std::move(points);
   }
   std::uint8_t prescribed_components() const override { return components_; }
+  bool prescribes_at(double t) const override { return t <= duration_; }
   double prescribed_velocity(int c, double t) const override {
     const double v = value_.value(t)[c];
     return ramp_time_ > 0 ? v * std::min(t / ramp_time_, 1.0) : v;
@@ -52,6 +57,7 @@ class PrescribedVelocity : public Condition {
   TimeTable value_;
   std::uint8_t components_;
   double ramp_time_;
+  double duration_;  // s: prescribed for 0 <= t <= duration_, free after
   bool steerable_;
 };
 
@@ -74,8 +80,14 @@ const bool velocity_registered =
         if (!value.constant())
           r->fail("no ramp_time with a table value (put the ramp in the table)");
       }
-      return std::unique_ptr<Condition>(
-          new PrescribedVelocity(std::move(points), std::move(value), components, ramp, true));
+      double duration = std::numeric_limits<double>::infinity();
+      if (auto d = n.optional("duration")) {
+        duration = d->as_positive();
+        if (!(duration > ramp))
+          d->fail("a duration in s longer than the ramp_time (" + std::to_string(ramp) + " s)");
+      }
+      return std::unique_ptr<Condition>(new PrescribedVelocity(
+          std::move(points), std::move(value), components, ramp, true, duration));
     });
 
 // `times` and `values` as a velocity's table (the `velocity_table` spelling).

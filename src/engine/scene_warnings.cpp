@@ -1,0 +1,167 @@
+#include "src/engine/scene_warnings.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "contact/contact_law.hpp"
+#include "src/engine/contact_coupling.hpp"
+#include "src/engine/simulation.hpp"
+
+namespace ckpd {
+
+namespace {
+
+struct Motion {
+  Vec3 lo, hi;       // bounding box of the current positions, m
+  Vec3 centre;       // volume-weighted centre, m
+  Vec3 velocity;     // volume-weighted mean velocity, m/s
+};
+
+Motion motion_of(const Body& b) {
+  Motion m{Vec3::Constant(std::numeric_limits<double>::infinity()),
+           Vec3::Constant(-std::numeric_limits<double>::infinity()), Vec3::Zero(), Vec3::Zero()};
+  double volume = 0;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    const Vec3 x = b.current_position(i);
+    m.lo = m.lo.cwiseMin(x);
+    m.hi = m.hi.cwiseMax(x);
+    m.centre += b.volume[i] * x;
+    m.velocity += b.volume[i] * b.velocity[i];
+    volume += b.volume[i];
+  }
+  if (volume > 0) {
+    m.centre /= volume;
+    m.velocity /= volume;
+  }
+  return m;
+}
+
+// Distance between two axis-aligned boxes (0 when they touch or overlap).
+double box_gap(const Motion& a, const Motion& b) {
+  const Vec3 gap = (a.lo - b.hi).cwiseMax(b.lo - a.hi).cwiseMax(Vec3::Zero());
+  return gap.norm();
+}
+
+std::string quoted(const std::string& name) { return "'" + name + "'"; }
+
+// Why no contact acts between bodies a and b: the case has no `contact` section, or no law
+// applies to the pair. Empty when the pair was switched off on purpose (enabled: false).
+std::string missing_contact(const Scene& scene, std::size_t a, std::size_t b) {
+  if (!scene.contact.present) return "the case has no `contact` section";
+  if (const ContactPairSetting* own = scene.contact.pair_setting(a, b); own && !own->enabled)
+    return "";
+  return "no contact law applies to the pair (no `stiffness`, globally or for the pair)";
+}
+
+void closing_bodies(const Simulation& sim, double duration, std::vector<std::string>& out) {
+  const Scene& scene = sim.whole_scene();
+  const std::vector<ContactBody> bodies = contact_bodies(scene);
+  std::vector<Motion> motion;
+  for (const SceneBody& sb : scene.bodies) motion.push_back(motion_of(sb.body));
+  for (std::size_t a = 0; a < bodies.size(); ++a)
+    for (std::size_t b = a + 1; b < bodies.size(); ++b) {
+      if (bodies[a].wall || bodies[b].wall) continue;  // a wall's points are not its surface
+      if (bodies[a].prescribed && bodies[b].prescribed) continue;
+      if (scene.contact.present && scene.contact.law(bodies, a, b)) continue;
+      const Vec3 towards = motion[b].centre - motion[a].centre;
+      const Vec3 relative = motion[b].velocity - motion[a].velocity;
+      const double closing = towards.norm() > 0 ? -relative.dot(towards) / towards.norm() : 0;
+      const double gap = box_gap(motion[a], motion[b]);
+      // Closing, and near enough to meet within the run at the speed they close with.
+      if (!(closing > 0) || gap > closing * duration) continue;
+      const std::string why = missing_contact(scene, a, b);
+      if (why.empty()) continue;
+      std::ostringstream s;
+      s << "bodies " << quoted(scene.bodies[a].body.name) << " and "
+        << quoted(scene.bodies[b].body.name) << " close on each other at " << closing
+        << " m/s from " << gap << " m apart, but " << why
+        << ": they will pass through each other (add `contact: {stiffness: ...}`, "
+           "docs/CONTACT_LAWS.md)";
+      out.push_back(s.str());
+    }
+}
+
+void non_conserving_contact(const Scene& scene, std::vector<std::string>& out) {
+  if (!scene.contact.present) return;
+  const std::vector<ContactBody> bodies = contact_bodies(scene);
+  for (std::size_t a = 0; a < bodies.size(); ++a)
+    for (std::size_t b = a; b < bodies.size(); ++b) {
+      const std::optional<PairLaw> law = scene.contact.law(bodies, a, b);
+      if (!law || law->name != kOwnHorizonLaw) continue;
+      std::ostringstream s;
+      s << "contact " << quoted(bodies[a].points.name) << "/" << quoted(bodies[b].points.name)
+        << " uses `" << kOwnHorizonLaw
+        << "`, the seed's rule (each body its own horizon in 9 Ccon/(pi delta^5)): it does not "
+           "conserve momentum or energy";
+      if (law->coefficient[0] != law->coefficient[1])
+        s << " (here the two sides' coefficients differ by the factor "
+          << std::max(law->coefficient[0], law->coefficient[1]) /
+                 std::min(law->coefficient[0], law->coefficient[1])
+          << ")";
+      else
+        s << " between bodies of different horizons (here the two are equal)";
+      s << "; the default `repulsive` uses one pair coefficient and conserves both; use this "
+           "rule only to reproduce the seed";
+      out.push_back(s.str());
+    }
+}
+
+void unbreakable_bodies(const Simulation& sim, std::vector<std::string>& out) {
+  const Scene& scene = sim.whole_scene();
+  const bool damage_field = std::find(scene.output.fields.begin(), scene.output.fields.end(),
+                                      "damage") != scene.output.fields.end();
+  for (std::size_t k = 0; k < scene.bodies.size(); ++k) {
+    const SceneBody& sb = scene.bodies[k];
+    if (sb.rigid || sb.body.damage_enabled) continue;
+    const std::size_t precracked = sim.precracked_bonds(k);
+    if (!damage_field && precracked == 0) continue;
+    std::ostringstream s;
+    s << "body " << quoted(sb.body.name)
+      << " cannot break (its material has no `fracture_energy`), yet the case asks for ";
+    if (precracked > 0)
+      s << "pre-cracks (" << precracked << " bonds start failed)";
+    if (precracked > 0 && damage_field) s << " and ";
+    if (damage_field) s << "the damage field";
+    s << ": give the material a `fracture_energy` (J/m^2) if it is meant to fail";
+    out.push_back(s.str());
+  }
+}
+
+void three_neighbour_cost(const Scene& scene, std::vector<std::string>& out) {
+  for (const SceneBody& sb : scene.bodies) {
+    const Body& b = sb.body;
+    if (sb.rigid || b.model != nullptr || b.dimension != 3 || b.constants.c3 == 0) continue;
+    std::ostringstream s;
+    const double bonds = static_cast<double>(std::max<std::size_t>(b.bond_count(), 1));
+    s << "body " << quoted(b.name)
+      << ": a Poisson ratio other than 1/4 makes C3 = " << b.constants.c3
+      << " non-zero, so every point carries three-neighbour interactions ("
+      << static_cast<double>(b.total_three_neighbour()) / bonds
+      << " ordered tetrahedra per bond); a step costs 10-40 times one at nu = 1/4 (bonds only, "
+         "measured: docs/PERFORMANCE.md)";
+    if (b.constants.c3 < 0)
+      s << ". nu < 1/4 gives C3 < 0: a tetrahedron's volume change lowers the energy, held up "
+           "only by the bonds (strain measures with m <= 0 are refused for it, THEORY.md "
+           "section 2)";
+    out.push_back(s.str());
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> scene_warnings(const Simulation& sim) {
+  const Scene& scene = sim.whole_scene();
+  const double duration =
+      std::isfinite(scene.time.end_time)
+          ? scene.time.end_time
+          : static_cast<double>(sim.planned_steps()) * sim.step_choice().dt;
+  std::vector<std::string> out;
+  closing_bodies(sim, duration, out);
+  non_conserving_contact(scene, out);
+  unbreakable_bodies(sim, out);
+  three_neighbour_cost(scene, out);
+  return out;
+}
+
+}  // namespace ckpd
