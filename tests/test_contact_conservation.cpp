@@ -55,8 +55,8 @@ struct Outcome {
 
 // Runs the scene to its end, `safety` x the stable step.
 Outcome run(const std::string& tag, const std::string& text, double safety) {
-  Scene scene = scene_from_text(tag, text + "time: {end: 6.0e-5, safety: " +
-                                         std::to_string(safety) + "}\n");
+  Scene scene =
+      scene_from_text(tag, text + "time: {end: 6.0e-5, safety: " + std::to_string(safety) + "}\n");
   Simulation sim(scene);
   const Momenta m0 = momenta(scene);
   Outcome o;
@@ -65,8 +65,7 @@ Outcome run(const std::string& tag, const std::string& text, double safety) {
     sim.advance(sim.step() + 1 == sim.planned_steps());
     const Momenta m = momenta(scene);
     o.linear_error = std::max(o.linear_error, (m.linear - m0.linear).norm() / m0.linear_scale);
-    o.angular_error =
-        std::max(o.angular_error, (m.angular - m0.angular).norm() / m0.angular_scale);
+    o.angular_error = std::max(o.angular_error, (m.angular - m0.angular).norm() / m0.angular_scale);
   }
   o.balance_error = sim.energies().balance_error;
   o.contact_peak = sim.contact()->statistics().points_in_contact_peak;
@@ -111,9 +110,10 @@ std::string two_spheres(const std::string& law) {
 
 }  // namespace
 
-TEST_CASE("two deformable bodies of different spacing, horizon and material conserve momentum "
-          "and energy in an off-centre collision",
-          "[contact][conservation]") {
+TEST_CASE(
+    "two deformable bodies of different spacing, horizon and material conserve momentum "
+    "and energy in an off-centre collision",
+    "[contact][conservation]") {
   check_conserving("different-horizons", two_spheres(""));
 }
 

@@ -17,8 +17,8 @@ bool has(const std::string& text, const std::string& part) {
 
 std::string material(const std::string& extra = "", double nu = 0.25) {
   std::ostringstream s;
-  s << "materials:\n  steel: {density: 7850, youngs_modulus: 200e9, poisson_ratio: " << nu
-    << extra << "}\n";
+  s << "materials:\n  steel: {density: 7850, youngs_modulus: 200e9, poisson_ratio: " << nu << extra
+    << "}\n";
   return s.str();
 }
 
@@ -34,8 +34,7 @@ std::string closing_cubes(const std::string& contact) {
          contact + "time: {end: 1.0e-4}\n";
 }
 
-CommandResult check(const std::string& tag, const std::string& text,
-                    const std::string& args = "") {
+CommandResult check(const std::string& tag, const std::string& text, const std::string& args = "") {
   const auto dir = fresh_dir(tag);
   return run_ckpd("check " + write_file(dir / "case.yaml", text) + " --steps 1 " + args);
 }
@@ -49,7 +48,8 @@ TEST_CASE("check warns about bodies closing on each other without contact", "[cl
   CHECK(has(none.output, "warning: bodies 'left' and 'right' close on each other"));
   CHECK(has(none.output, "no `contact` section"));
 
-  const CommandResult with = check("closing-contact", closing_cubes("contact: {stiffness: 1e12}\n"));
+  const CommandResult with =
+      check("closing-contact", closing_cubes("contact: {stiffness: 1e12}\n"));
   INFO(with.output);
   CHECK(with.exit_code == 0);
   CHECK_FALSE(has(with.output, "close on each other"));
@@ -76,18 +76,17 @@ TEST_CASE("check on the sphere-disc case with the seed's rule prints the warning
           "[cli][warnings]") {
   // The seed's scene made small enough to set up in a moment: a 60 mm disc of horizon 15 mm
   // (still not the sphere's 12.06 mm).
-  const CommandResult r = run_ckpd(
-      "check " + std::string(CKPD_SOURCE_DIR) +
-      "/cases/sphere_disc_impact.yaml --steps 0 --set contact.law=repulsive_own_horizon "
-      "--set bodies.disc.geometry.radius=0.03 --set bodies.disc.horizon=0.015");
+  const CommandResult r =
+      run_ckpd("check " + std::string(CKPD_SOURCE_DIR) +
+               "/cases/sphere_disc_impact.yaml --steps 0 --set contact.law=repulsive_own_horizon "
+               "--set bodies.disc.geometry.radius=0.03 --set bodies.disc.horizon=0.015");
   INFO(r.output);
   CHECK(r.exit_code == 0);
   CHECK(has(r.output, "warning: contact 'sphere'/'disc' uses `repulsive_own_horizon`"));
   CHECK(has(r.output, "does not conserve momentum or energy"));
 }
 
-TEST_CASE("check warns about a body that cannot break in a case that asks for damage",
-          "[cli][warnings]") {
+TEST_CASE("check warns about damage asked of bodies that cannot break", "[cli][warnings]") {
   const std::string cube =
       "bodies:\n  - {name: cube, material: steel, geometry: {type: box, min: [0, 0, 0], max: "
       "[0.004, 0.004, 0.004]}, spacing: 0.001, horizon_ratio: 2.015}\n"
@@ -95,10 +94,17 @@ TEST_CASE("check warns about a body that cannot break in a case that asks for da
   const CommandResult r = check("no-gc", material() + cube);
   INFO(r.output);
   CHECK(r.exit_code == 0);
-  CHECK(has(r.output, "warning: body 'cube' cannot break"));
-  CHECK(has(r.output, "the damage field"));
-  CHECK_FALSE(
-      has(check("gc", material(", fracture_energy: 1000") + cube).output, "cannot break"));
+  CHECK(has(r.output, "warning: the case writes the damage field, but no body can break"));
+  CHECK_FALSE(has(check("gc", material(", fracture_energy: 1000") + cube).output, "can break"));
+  // Pre-cracks on a body without fracture_energy: they cannot grow.
+  std::string cracked = cube;
+  cracked.replace(cracked.find("horizon_ratio: 2.015}"), 21,
+                  "horizon_ratio: 2.015, precracks: [[[0.002, -1, -1], [0.002, 1, -1], [0.002, "
+                  "1, 1], [0.002, -1, 1]]]}");
+  const CommandResult p = check("precrack-no-gc", material() + cracked);
+  INFO(p.output);
+  CHECK(has(p.output, "warning: body 'cube' has pre-cracks"));
+  CHECK(has(p.output, "cannot break further"));
 }
 
 TEST_CASE("check warns about the cost of three-neighbour interactions and a negative C3",

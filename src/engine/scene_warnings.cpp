@@ -13,9 +13,9 @@ namespace ckpd {
 namespace {
 
 struct Motion {
-  Vec3 lo, hi;       // bounding box of the current positions, m
-  Vec3 centre;       // volume-weighted centre, m
-  Vec3 velocity;     // volume-weighted mean velocity, m/s
+  Vec3 lo, hi;    // bounding box of the current positions, m
+  Vec3 centre;    // volume-weighted centre, m
+  Vec3 velocity;  // volume-weighted mean velocity, m/s
 };
 
 Motion motion_of(const Body& b) {
@@ -43,7 +43,9 @@ double box_gap(const Motion& a, const Motion& b) {
   return gap.norm();
 }
 
-std::string quoted(const std::string& name) { return "'" + name + "'"; }
+std::string quoted(const std::string& name) {
+  return "'" + name + "'";
+}
 
 // Why no contact acts between bodies a and b: the case has no `contact` section, or no law
 // applies to the pair. Empty when the pair was switched off on purpose (enabled: false).
@@ -90,8 +92,8 @@ void non_conserving_contact(const Scene& scene, std::vector<std::string>& out) {
       const std::optional<PairLaw> law = scene.contact.law(bodies, a, b);
       if (!law || law->name != kOwnHorizonLaw) continue;
       std::ostringstream s;
-      s << "contact " << quoted(bodies[a].points.name) << "/" << quoted(bodies[b].points.name)
-        << " uses `" << kOwnHorizonLaw
+      s << "contact " << quoted(std::string(bodies[a].points.name)) << "/"
+        << quoted(std::string(bodies[b].points.name)) << " uses `" << kOwnHorizonLaw
         << "`, the seed's rule (each body its own horizon in 9 Ccon/(pi delta^5)): it does not "
            "conserve momentum or energy";
       if (law->coefficient[0] != law->coefficient[1])
@@ -107,31 +109,38 @@ void non_conserving_contact(const Scene& scene, std::vector<std::string>& out) {
     }
 }
 
+// Pre-cracks on a body that cannot break, or a damage field in a case where no body can: the
+// author probably forgot `fracture_energy`. (One unbreakable body among breakable ones, a
+// projectile say, is left alone.)
 void unbreakable_bodies(const Simulation& sim, std::vector<std::string>& out) {
   const Scene& scene = sim.whole_scene();
-  const bool damage_field = std::find(scene.output.fields.begin(), scene.output.fields.end(),
-                                      "damage") != scene.output.fields.end();
+  bool any_breakable = false;
+  bool any_deformable = false;
+  for (const SceneBody& sb : scene.bodies) {
+    if (sb.rigid) continue;
+    any_breakable = any_breakable || sb.body.damage_enabled;
+    any_deformable = true;
+  }
   for (std::size_t k = 0; k < scene.bodies.size(); ++k) {
     const SceneBody& sb = scene.bodies[k];
-    if (sb.rigid || sb.body.damage_enabled) continue;
-    const std::size_t precracked = sim.precracked_bonds(k);
-    if (!damage_field && precracked == 0) continue;
-    std::ostringstream s;
-    s << "body " << quoted(sb.body.name)
-      << " cannot break (its material has no `fracture_energy`), yet the case asks for ";
-    if (precracked > 0)
-      s << "pre-cracks (" << precracked << " bonds start failed)";
-    if (precracked > 0 && damage_field) s << " and ";
-    if (damage_field) s << "the damage field";
-    s << ": give the material a `fracture_energy` (J/m^2) if it is meant to fail";
-    out.push_back(s.str());
+    if (sb.rigid || sb.body.damage_enabled || sim.precracked_bonds(k) == 0) continue;
+    out.push_back("body " + quoted(sb.body.name) + " has pre-cracks (" +
+                  std::to_string(sim.precracked_bonds(k)) +
+                  " bonds start failed) but cannot break further: its material has no "
+                  "`fracture_energy` (J/m^2); give it one if the cracks are meant to grow");
   }
+  const bool damage_field = std::find(scene.output.fields.begin(), scene.output.fields.end(),
+                                      "damage") != scene.output.fields.end();
+  if (damage_field && !any_breakable && any_deformable)
+    out.push_back(
+        "the case writes the damage field, but no body can break: no material has a "
+        "`fracture_energy` (J/m^2)");
 }
 
 void three_neighbour_cost(const Scene& scene, std::vector<std::string>& out) {
   for (const SceneBody& sb : scene.bodies) {
     const Body& b = sb.body;
-    if (sb.rigid || b.model != nullptr || b.dimension != 3 || b.constants.c3 == 0) continue;
+    if (sb.rigid || b.dimension != 3 || b.constants.c3 == 0) continue;
     std::ostringstream s;
     const double bonds = static_cast<double>(std::max<std::size_t>(b.bond_count(), 1));
     s << "body " << quoted(b.name)
@@ -152,10 +161,9 @@ void three_neighbour_cost(const Scene& scene, std::vector<std::string>& out) {
 
 std::vector<std::string> scene_warnings(const Simulation& sim) {
   const Scene& scene = sim.whole_scene();
-  const double duration =
-      std::isfinite(scene.time.end_time)
-          ? scene.time.end_time
-          : static_cast<double>(sim.planned_steps()) * sim.step_choice().dt;
+  const double duration = std::isfinite(scene.time.end_time)
+                              ? scene.time.end_time
+                              : static_cast<double>(sim.planned_steps()) * sim.step_choice().dt;
   std::vector<std::string> out;
   closing_bodies(sim, duration, out);
   non_conserving_contact(scene, out);

@@ -1,6 +1,7 @@
 // `velocity`: prescribed velocity on a region, constant or ramped linearly from 0 over
 // `ramp_time` (THEORY.md section 7), optionally only for `duration` seconds from t = 0 (then
-// the points are let go and move under their forces: a finite pulse), or tabulated over time (`value: {table: [[t, vx, vy, vz],
+// the points are let go and move under their forces: a finite pulse), or tabulated over time
+// (`value: {table: [[t, vx, vy, vz],
 // ...], interpolation: linear | step}`, src/engine/time_table.hpp), on all or some components.
 // `fixed`: zero velocity. `velocity_table` (`times`, `values`, `interpolation`) is the same
 // condition as a `velocity` with a table value, spelt as the Python examples first wrote it.
@@ -86,8 +87,8 @@ const bool velocity_registered =
         if (!(duration > ramp))
           d->fail("a duration in s longer than the ramp_time (" + std::to_string(ramp) + " s)");
       }
-      return std::unique_ptr<Condition>(new PrescribedVelocity(
-          std::move(points), std::move(value), components, ramp, true, duration));
+      return std::unique_ptr<Condition>(new PrescribedVelocity(std::move(points), std::move(value),
+                                                               components, ramp, true, duration));
     });
 
 // `times` and `values` as a velocity's table (the `velocity_table` spelling).
