@@ -8,7 +8,8 @@ Fails (exit 1, one line per finding: file:line and what was found) on
   or any bare 7-40 digit hex word with both digits and letters);
 - a README of 200 lines or more;
 - a relative link or image in a page whose target does not exist (pages the build generates,
-  GENERATED below, may be absent in a source tree that has not generated them yet).
+  GENERATED below, may be absent in a source tree that has not generated them yet), or a link
+  to a heading (#anchor) that the target page does not have (GitHub's heading slugs).
 CHANGELOG.md, where the history lives, is not checked.
 """
 import pathlib
@@ -26,6 +27,26 @@ PATTERNS = [
 LINK = re.compile(r"!?\[[^\]]*\]\(([^)\s]+)\)")
 GENERATED = {"docs/CASE_FILE.md", "docs/PYTHON_API.md"}
 README_LINES = 200
+
+
+def slug(heading):
+    """GitHub's anchor of a heading: lower case, punctuation dropped, spaces to hyphens."""
+    text = re.sub(r"[^\w\- ]", "", heading.strip().lower())
+    return text.replace(" ", "-")
+
+
+def anchors(path):
+    out, seen, in_code = set(), {}, False
+    for line in path.read_text(encoding="utf-8").splitlines():
+        if line.lstrip().startswith("```"):
+            in_code = not in_code
+        if in_code or not line.startswith("#"):
+            continue
+        base = slug(line.lstrip("#"))
+        n = seen.get(base, 0)
+        seen[base] = n + 1
+        out.add(base if n == 0 else f"{base}-{n}")
+    return out
 
 
 def pages(root):
@@ -49,10 +70,17 @@ def check(root):
             if in_code:
                 continue
             for target in LINK.findall(line):
-                if re.match(r"[a-z]+:", target) or target.startswith("#"):
+                if re.match(r"[a-z]+:", target):
                     continue
-                path = (page.parent / target.split("#")[0]).resolve()
+                if target.startswith("#"):
+                    if target[1:] not in anchors(page):
+                        findings.append(f"{rel}:{number}: no heading '{target}' in this page")
+                    continue
+                file_part, _, anchor = target.partition("#")
+                path = (page.parent / file_part).resolve()
                 if path.exists():
+                    if anchor and path.suffix == ".md" and anchor not in anchors(path):
+                        findings.append(f"{rel}:{number}: no heading '#{anchor}' in {file_part}")
                     continue
                 try:
                     generated = path.relative_to(root.resolve()).as_posix() in GENERATED
