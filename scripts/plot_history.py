@@ -5,10 +5,13 @@ damage, and the case's chosen history quantities (output.history), one panel eac
     scripts/plot_history.py runs/CASE/history.csv -o runs/CASE/history.png
     scripts/plot_history.py runs/CASE/history.csv --columns contact_force_ball_plate_z -o f.png
 
-Panels: (1) kinetic, strain, contact, dissipated energy and external work; (2) the balance
-error, absolute and as a percentage of max(|external work|, kinetic + strain); (3) broken bonds
-and maximum damage; then one panel per chosen quantity (its x, y, z columns together). With
---columns only those columns are drawn after the first three panels. Time in microseconds.
+Panels: (1) kinetic, strain, contact, dissipated energy, contact damping and friction losses
+and external work (each only when the file has the column and it is not zero throughout); (2)
+the balance error, absolute and as a percentage of max(|external work|, kinetic + strain); (3)
+broken bonds and maximum damage; (4) the far field's fraction of exact points, when the file has
+it; then one panel per chosen quantity (its x, y, z columns together). Only columns the file's
+header names are drawn, so histories of every ckpd version plot. With --columns only those
+columns are drawn after the standard panels. Time in microseconds.
 """
 import argparse
 import csv
@@ -19,8 +22,14 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-DEFAULT = ["step", "time", "kinetic", "strain", "contact", "external_work", "dissipated",
-           "balance_error", "broken_bonds", "max_damage", "inverted"]
+# Columns every history has; a file without them is not a ckpd history.
+REQUIRED = ["step", "time", "kinetic", "strain", "contact", "external_work", "dissipated",
+            "balance_error", "broken_bonds", "max_damage"]
+# Standard columns that only some ckpd versions or cases write (drawn in the standard panels
+# when present, never as panels of their own).
+OPTIONAL = ["contact_damping", "contact_friction", "inverted", "exact_fraction"]
+ENERGIES = ["kinetic", "strain", "contact", "dissipated", "contact_damping", "contact_friction",
+            "external_work"]
 
 
 def read(path):
@@ -50,10 +59,10 @@ def main():
     ap.add_argument("-o", "--out", required=True, help="PNG file")
     args = ap.parse_args()
     data, header = read(args.history)
-    missing = [c for c in DEFAULT if c not in data]
+    missing = [c for c in REQUIRED if c not in data]
     if missing:
         sys.exit(f"{args.history}: not a ckpd history (missing {', '.join(missing)})")
-    chosen = [c for c in header if c not in DEFAULT]
+    chosen = [c for c in header if c not in REQUIRED and c not in OPTIONAL]
     if args.columns:
         unknown = [c for c in args.columns if c not in data]
         if unknown:
@@ -61,11 +70,13 @@ def main():
         chosen = args.columns
     extra = groups(chosen)
     t = [1e6 * x for x in data["time"]]
-    panels = 3 + len(extra)
+    far_field = "exact_fraction" in data
+    standard = 4 if far_field else 3
+    panels = standard + len(extra)
     fig, axes = plt.subplots(panels, 1, figsize=(8, 2.6 * panels), sharex=True, squeeze=False)
     axes = axes[:, 0]
-    for name in ("kinetic", "strain", "contact", "dissipated", "external_work"):
-        if any(v != 0 for v in data[name]):
+    for name in ENERGIES:
+        if name in data and any(v != 0 for v in data[name]):
             axes[0].plot(t, data[name], label=name)
     axes[0].set_ylabel("energy [J]")
     axes[0].legend(fontsize=8)
@@ -85,7 +96,12 @@ def main():
     twin.plot(t, data["max_damage"], color="C5", linestyle="--", label="max damage")
     twin.set_ylabel("max damage")
     twin.set_ylim(0, 1.05)
-    for ax, (base, cols) in zip(axes[3:], extra.items()):
+    if far_field:
+        axes[3].plot(t, data["exact_fraction"], color="C2", label="far field: fraction exact")
+        axes[3].set_ylabel("exact fraction")
+        axes[3].set_ylim(0, 1.05)
+        axes[3].legend(fontsize=8)
+    for ax, (base, cols) in zip(axes[standard:], extra.items()):
         for c in cols:
             ax.plot(t, data[c], label=c)
         ax.set_ylabel(base, fontsize=8)
