@@ -10,7 +10,11 @@ joined across the eight neighbours of the lattice, make the cracks; components o
 whether it reaches a notch tip (within 3 spacings of (0.05, +-0.025) m), the impacted section
 (x < 10 mm, |y| < 25 mm) or the far edge (x > 90 mm), and its closest approach to a tip. A
 crack that reaches no tip "starts away from the tips". The far-edge damage is the number of
-columns with x > 80 mm over the threshold and the largest D there. With the run's summary.json:
+columns with x > 80 mm over the threshold and the largest D there. Crossings count the cracks
+that cut a probe line: along the lines y = +-40, +-60 and +-80 mm (cracks running across the
+plate's height: a clean picture has one per line, the crack from that side's tip) and along
+x = 85 mm (cracks running in from the far edge), each a run of damaged columns, runs more than
+1.5 spacings apart counted apart. With the run's summary.json:
 the work put in (external work), the energy balance error, broken bonds, wall time and peak RSS.
 Needs h5py and numpy.
 """
@@ -63,6 +67,28 @@ def components(hit):
     return out
 
 
+def runs_along(line, start, dx):
+    """Positions (mm) of the centres of the runs of True in a boolean row of columns."""
+    idx = np.nonzero(line)[0]
+    if idx.size == 0:
+        return []
+    cuts = np.where(np.diff(idx) > 1)[0] + 1
+    return [round(float(start + np.mean(run) * dx) * 1e3, 1) for run in np.split(idx, cuts)]
+
+
+def crossings(damage, origin, dx, threshold):
+    hit = damage > threshold
+    out = {}
+    for y in (0.08, 0.06, 0.04, -0.04, -0.06, -0.08):
+        j = int(round((y - origin[1]) / dx))
+        if 0 <= j < hit.shape[1]:
+            out[f"y={y * 1e3:+.0f}mm"] = runs_along(hit[:, j], origin[0], dx)
+    i = int(round((0.085 - origin[0]) / dx))
+    if 0 <= i < hit.shape[0]:
+        out["x=85mm"] = runs_along(hit[i, :], origin[1], dx)
+    return out
+
+
 def census(run, time, body, threshold, min_points):
     b = read_body(pick_frame(run, None, time), body)
     if not b["reference"]:
@@ -92,6 +118,7 @@ def census(run, time, body, threshold, min_points):
               "away_from_tips": sum(1 for c in cracks if not c["reaches_tip"]),
               "far_edge_columns": int((far > threshold).sum()),
               "far_edge_max_damage": round(float(far.max()), 3) if far.size else 0.0,
+              "crossings": crossings(damage, origin, dx, threshold),
               "crack_list": cracks}
     summary = os.path.join(run, "summary.json")
     if os.path.exists(summary):

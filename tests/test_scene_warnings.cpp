@@ -126,16 +126,15 @@ TEST_CASE("check warns about the cost of three-neighbour interactions and a nega
 TEST_CASE("a run repeats the set-up warnings on screen and in run.log", "[cli][warnings]") {
   const auto dir = fresh_dir("warn-run");
   const std::string file = write_file(dir / "case.yaml", closing_cubes(""));
-  const CommandResult r =
-      run_ckpd("run " + file + " --out " + (dir / "out").string() + " --set time.steps=2");
+  const CommandResult r = run_ckpd("run " + file + " --out " + (dir / "out").string());
   INFO(r.output);
   CHECK(r.exit_code == 0);
   CHECK(has(r.output, "warning: bodies 'left' and 'right' close on each other"));
   std::ifstream log(dir / "out" / "run.log");
   const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
   CHECK(has(text, "warning: bodies 'left' and 'right' close on each other"));
-  const CommandResult quiet = run_ckpd("run " + file + " --quiet --out " +
-                                       (dir / "quiet").string() + " --set time.steps=2");
+  const CommandResult quiet =
+      run_ckpd("run " + file + " --quiet --out " + (dir / "quiet").string());
   CHECK(quiet.exit_code == 0);
   CHECK(has(quiet.output, "ckpd: warning: bodies 'left' and 'right'"));
 }

@@ -109,6 +109,13 @@ void non_conserving_contact(const Scene& scene, std::vector<std::string>& out) {
     }
 }
 
+// Whether bonds of the body can fail during the run (a pre-cracked body has damage bookkeeping
+// even without a failure criterion: its cut bonds must carry no force).
+bool can_break(const Body& b) {
+  return b.damage_enabled &&
+         (std::isfinite(b.critical_stretch) || std::isfinite(b.state_based.failure_beta));
+}
+
 // Pre-cracks on a body that cannot break, or a damage field in a case where no body can: the
 // author probably forgot `fracture_energy`. (One unbreakable body among breakable ones, a
 // projectile say, is left alone.)
@@ -118,12 +125,12 @@ void unbreakable_bodies(const Simulation& sim, std::vector<std::string>& out) {
   bool any_deformable = false;
   for (const SceneBody& sb : scene.bodies) {
     if (sb.rigid) continue;
-    any_breakable = any_breakable || sb.body.damage_enabled;
+    any_breakable = any_breakable || can_break(sb.body);
     any_deformable = true;
   }
   for (std::size_t k = 0; k < scene.bodies.size(); ++k) {
     const SceneBody& sb = scene.bodies[k];
-    if (sb.rigid || sb.body.damage_enabled || sim.precracked_bonds(k) == 0) continue;
+    if (sb.rigid || can_break(sb.body) || sim.precracked_bonds(k) == 0) continue;
     out.push_back("body " + quoted(sb.body.name) + " has pre-cracks (" +
                   std::to_string(sim.precracked_bonds(k)) +
                   " bonds start failed) but cannot break further: its material has no "
