@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "ball_fixture.hpp"
 #include "run_helpers.hpp"
 
 using namespace ckpd::testing;
@@ -10,19 +11,11 @@ using namespace ckpd::testing;
 TEST_CASE("a pressure pulse of any positive duration gives finite energies", "[conditions]") {
   for (const char* duration : {"1.0e-300", "1.0e-4"}) {
     const auto dir = fresh_dir("pulse");
-    const std::string text = std::string(R"(# SI units
-materials:
-  steel: {density: 7850, youngs_modulus: 210e9, poisson_ratio: 0.3}
-bodies:
-  - {name: ball, material: steel, geometry: {type: sphere, center: [0, 0, 0], radius: 0.002},
-     spacing: 0.001, horizon_ratio: 3.015}
-conditions:
-  - {type: pressure_pulse, body: ball, region: {type: half_space, point: [0, 0, 0.001],
-     normal: [0, 0, 1]}, peak: 1.0e5, duration: )") +
-                             duration + R"(, direction: [0, 0, -1]}
-time: {steps: 5}
-output: {history_interval: 1}
-)";
+    const std::string text = steel_ball_case(
+        std::string(
+            "conditions:\n  - {type: pressure_pulse, body: ball, region: {type: half_space, "
+            "point: [0, 0, 0.001], normal: [0, 0, 1]}, peak: 1.0e5, duration: ") +
+        duration + ", direction: [0, 0, -1]}\ntime: {steps: 5}\noutput: {history_interval: 1}\n");
     const std::string file = write_file(dir / "case.yaml", text);
     const CommandResult r =
         run_ckpd("run " + file + " --quiet --threads 1 --out " + (dir / "out").string());

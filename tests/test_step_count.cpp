@@ -4,28 +4,20 @@
 // exit 0, "completed").
 #include <catch2/catch.hpp>
 
+#include "ball_fixture.hpp"
 #include "run_helpers.hpp"
 
 using namespace ckpd::testing;
 
 namespace {
 
-const char* kBall = R"(# a small steel ball, SI units
-materials:
-  steel: {density: 7850, youngs_modulus: 210e9, poisson_ratio: 0.3}
-bodies:
-  - {name: ball, material: steel, geometry: {type: sphere, center: [0, 0, 0], radius: 0.002},
-     spacing: 0.001, horizon_ratio: 3.015}
-conditions:
-  - {type: initial_velocity, body: ball, value: [0, 0, -10]}
-TIME
-)";
-
 CommandResult run_with_time(const std::string& time) {
   const auto dir = fresh_dir("step-count");
-  std::string text = kBall;
-  text.replace(text.find("TIME"), 4, time);
-  const std::string file = write_file(dir / "case.yaml", text);
+  const std::string file =
+      write_file(dir / "case.yaml",
+                 steel_ball_case(
+                     "conditions:\n  - {type: initial_velocity, body: ball, value: [0, 0, -10]}\n" +
+                     time + "\n"));
   const CommandResult r =
       run_ckpd("run " + file + " --quiet --threads 1 --out " + (dir / "out").string());
   CHECK_FALSE(std::filesystem::exists(dir / "out" / "summary.json"));

@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <fstream>
 
+#include "ball_fixture.hpp"
 #include "run_helpers.hpp"
 #include "src/input/case_node.hpp"
 #include "src/input/yaml_document.hpp"
@@ -14,13 +15,7 @@ using namespace ckpd::testing;
 
 namespace {
 
-const char* kBall = R"(materials:
-  steel: {density: 7850, youngs_modulus: 210e9, poisson_ratio: 0.3}
-bodies:
-  - {name: ball, material: steel, geometry: {type: sphere, center: [0, 0, 0], radius: 0.002},
-     spacing: 0.001, horizon_ratio: 3.015}
-time: {steps: 3}
-)";
+const std::string kBall = steel_ball_case("time: {steps: 3}\n");
 
 std::string refusal(const std::string& file) {
   try {
