@@ -3,6 +3,7 @@
 // fresh temporary folder, run the binary, read what it wrote.
 #include <sys/wait.h>
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -33,15 +34,35 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
-inline CommandResult run_ckpd(const std::string& args) {
+// A shell command (stdout and stderr together).
+inline CommandResult run_ckpd_command(const std::string& command) {
   CommandResult r;
-  const std::string cmd = std::string(CKPD_BINARY) + " " + args + " 2>&1";
+  const std::string cmd = command + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return r;
   char buf[4096];
   while (std::fgets(buf, sizeof buf, pipe)) r.output += buf;
   const int status = pclose(pipe);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+inline CommandResult run_ckpd(const std::string& args) {
+  return run_ckpd_command(std::string(CKPD_BINARY) + " " + args);
+}
+
+// run_ckpd under coreutils' `timeout`: a command that hangs is killed after `limit_seconds`
+// (exit status 137); `seconds` is the wall time it took.
+struct TimedResult : CommandResult {
+  double seconds = 0;
+};
+inline TimedResult run_ckpd_within(int limit_seconds, const std::string& args) {
+  const auto start = std::chrono::steady_clock::now();
+  TimedResult r;
+  static_cast<CommandResult&>(r) =
+      run_ckpd_command("timeout -s KILL " + std::to_string(limit_seconds) + " " +
+                       std::string(CKPD_BINARY) + " " + args);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }
 

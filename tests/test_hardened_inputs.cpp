@@ -199,12 +199,13 @@ TEST_CASE("a speed of 1e300, or of light, is refused naming the key", "[hardened
 TEST_CASE("an impact faster than the contact can stop is flagged, not completed", "[hardened]") {
   // At 1e6 m/s the contact speed bound cut dt so far that no body moved far per step, and the
   // sphere passed through the plate with no damage; the closing speed is now checked against
-  // l_c sqrt(k / rho), the speed the penalty can stop within l_c.
+  // l_c sqrt(k / rho), the speed the penalty can stop within l_c. The refusal names the line
+  // and key of the velocity that sets the closing speed.
   expect_refused(replace(kImpact, "value: [0, 0, -10]", "value: [0, 0, -1e6]"),
-                 {"case.yaml: conditions: bodies plate/ball close at 1e+06 m/s",
+                 {"case.yaml:16: conditions[0]: bodies plate/ball close at 1e+06 m/s",
                   "would pass through each other"});
   expect_refused(replace(kImpact, "value: [0, 0, -10]", "value: [0, 0, -2.9e8]"),
-                 {"case.yaml: conditions: bodies plate/ball close at 2.9e+08 m/s"});
+                 {"case.yaml:16: conditions[0]: bodies plate/ball close at 2.9e+08 m/s"});
 }
 
 TEST_CASE("a time step above the estimate names the file, line and key", "[hardened]") {

@@ -55,9 +55,36 @@ TEST_CASE("bad mesh input is an error naming the file and what was wrong", "[mes
     expect_error(dir, mesh_case("{type: mesh, file: cube.xyz}"),
                  {"geometry.file", "a mesh format that assimp reads", ".xyz"});
   }
-  SECTION("a file assimp cannot parse") {
+  SECTION("a PLY header with a count that is not a number") {
     write_file(dir / "broken.ply", "ply\nformat ascii 1.0\nelement vertex banana\nend_header\n");
-    expect_error(dir, mesh_case("{type: mesh, file: broken.ply}"),
+    expect_error(
+        dir, mesh_case("{type: mesh, file: broken.ply}"),
+        {"geometry.file", "'element NAME COUNT' lines with a whole COUNT", "header line 3"});
+  }
+  SECTION("a PLY header cut short before end_header is refused at once") {
+    // assimp's importer spent its two-minute CPU limit on it.
+    std::filesystem::copy_file(
+        std::string(CKPD_SOURCE_DIR) + "/tests/data/inputs/truncated_header.ply", dir / "cut.ply");
+    const std::string file =
+        write_file(dir / "case.yaml", mesh_case("{type: mesh, file: cut.ply}"));
+    const TimedResult r = run_ckpd_within(60, "check " + file);
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("geometry.file") != std::string::npos);
+    CHECK(r.output.find("a header that ends in an end_header line") != std::string::npos);
+    CHECK(r.seconds < 10);
+  }
+  SECTION("PLY element counts beyond the file's size are refused") {
+    write_file(dir / "short.ply",
+               "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000\n"
+               "property float x\nproperty float y\nproperty float z\nend_header\n0123");
+    expect_error(dir, mesh_case("{type: mesh, file: short.ply}"),
+                 {"element counts that fit in the file (1000000000 vertex need at least 1.2e+10 "
+                  "bytes after the header, the file has 4"});
+  }
+  SECTION("a file assimp cannot parse") {
+    write_file(dir / "broken.obj", "v 0 0 0\nf 1 2 3\n");
+    expect_error(dir, mesh_case("{type: mesh, file: broken.obj}"),
                  {"geometry.file", "a mesh file assimp can parse"});
   }
   SECTION("open mesh: how many open edges and where") {

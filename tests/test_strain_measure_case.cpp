@@ -130,6 +130,27 @@ TEST_CASE("a strain measure that is not a number is refused with file, line and 
   }
 }
 
+TEST_CASE("a strain measure outside [-2, 2] is refused with file, line and key",
+          "[strain_measure]") {
+  // m = 1e6 overflowed r^(2m) at the first strain and the run stopped with null energies.
+  for (const char* bad : {"strain_measure: {m: 1.0e6}, ", "strain_measure: {m: -2.5}, "}) {
+    const auto dir = fresh_dir("sm-range");
+    const CommandResult r = run_case(with_measure(bad), dir);
+    INFO(bad << ": " << r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("case.yaml:3: materials.steel.strain_measure.m: expected a Seth-Hill "
+                        "exponent m from -2 to 2") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(dir / "out" / "summary.json"));
+  }
+  for (const char* good : {"strain_measure: {m: 2}, ", "strain_measure: {m: -2}, "}) {
+    const auto dir = fresh_dir("sm-range-ends");
+    const CommandResult r =
+        run_ckpd("check " + write_file(dir / "case.yaml", with_measure(good)) + " --steps 1");
+    INFO(good << ": " << r.output);
+    CHECK(r.exit_code == 0);
+  }
+}
+
 TEST_CASE("a strain measure must be a map with m and nothing else", "[strain_measure]") {
   {
     const auto dir = fresh_dir("sm-scalar");

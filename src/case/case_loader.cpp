@@ -351,10 +351,14 @@ TimeSettings read_time(const CaseNode& t) {
   const auto steps = t.optional("steps");
   if (end && steps) t.fail("either end (a time in s) or steps, not both");
   if (!end && !steps) t.fail("an end time (end) or a number of steps (steps)");
-  if (end) s.end_time = end->as_positive();
+  if (end) {
+    s.end_time = end->as_positive();
+    s.end_where = end->where();
+  }
   if (steps) {
     s.steps = steps->as_integer();
-    if (s.steps < 0) steps->fail("a non-negative number of steps");
+    if (s.steps < 0 || s.steps > TimeSettings::kMaxSteps)
+      steps->fail("a number of steps from 0 to " + std::to_string(TimeSettings::kMaxSteps));
   }
   if (auto dt = t.optional("dt")) {
     if (!(dt->is_scalar() && dt->as_string() == "auto")) {

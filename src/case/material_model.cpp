@@ -9,9 +9,11 @@ double strain_measure_of(const CaseNode& m, double fallback) {
   if (!sm) return fallback;
   if (!sm->is_map()) sm->fail("a map {m: M} (the Seth-Hill exponent, e.g. {m: 0})");
   const CaseNode exponent = sm->required("m");
+  // The named measures lie in [-1, 1] (Almansi, log, Biot, Green). A stiffness growing as
+  // r^(4m - 2) makes any larger |m| overflow at strains a run meets: m = 1e6 gave null energies.
   const double value = exponent.as_double();
-  if (!std::isfinite(value))
-    exponent.fail("a finite number (the Seth-Hill exponent m; 0.5 is l/L - 1, 0 is log)");
+  if (!(std::abs(value) <= kMaxStrainMeasure))
+    exponent.fail("a Seth-Hill exponent m from -2 to 2 (0.5 is l/L - 1, 0 is log, 1 Green's)");
   sm->finish();
   return value;
 }

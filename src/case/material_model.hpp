@@ -57,6 +57,8 @@ inline void refuse_keys_of(const CaseNode& m, const std::string& mine, const std
 
 // The Seth-Hill exponent of `strain_measure: {m: M}` if the material has the key, else
 // `fallback` (1/2: l/L - 1). Shared by the models that take a strain measure.
+// A Seth-Hill exponent m is refused outside [-kMaxStrainMeasure, kMaxStrainMeasure].
+constexpr double kMaxStrainMeasure = 2;
 double strain_measure_of(const CaseNode& m, double fallback = 0.5);
 
 // Reads a material's own keys (not `model`); the caller rejects any key left unread.

@@ -16,6 +16,7 @@
 #include "src/case/case_loader.hpp"
 #include "src/cli/cli_options.hpp"
 #include "src/cli/launch_guard.hpp"
+#include "src/cli/rank_agreement.hpp"
 #include "src/cli/setup_interrupt.hpp"
 #include "src/engine/contact_coupling.hpp"
 #include "src/engine/distribution.hpp"
@@ -24,6 +25,7 @@
 #include "src/engine/scene_warnings.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/geometry/work_estimate.hpp"
+#include "src/input/case_node.hpp"
 #include "src/output/beta_report.hpp"
 #include "src/output/checkpoint.hpp"
 #include "src/output/kernel_report.hpp"
@@ -207,9 +209,16 @@ int run(const RunOptions& opt) {
   std::ostringstream setup;
   std::string out = opt.out_dir;
   if (out.empty()) out = "runs/" + std::filesystem::path(opt.case_file).stem().string();
-  auto set_up = [&]() {
-    scene_holder.emplace(load_scene(opt.case_file, opt.overrides));
+  std::string resolved_case;  // several ranks: what each compares with rank 0's
+  // Reading the case and building its bodies: each rank alone, no collective.
+  auto load = [&]() {
+    std::vector<CaseNode::Override> applied;
+    YAML::Node resolved = load_case_yaml(opt.case_file, opt.overrides, &applied);
+    if (rank_count > 1) resolved_case = YAML::Dump(resolved);
+    scene_holder.emplace(load_scene(resolved, opt.case_file, std::move(applied)));
     scene_holder->output.gather_files = opt.gather_output;
+  };
+  auto set_up = [&]() {
     // Several ranks: each holds its part of the scene (distribution.hpp) or, for a scene that
     // scheme does not take, the whole scene, evaluating the sets centred at its own points
     // (force_sharing.hpp).
@@ -287,12 +296,18 @@ int run(const RunOptions& opt) {
     }
   };
   if (rank_count == 1) {
+    load();
     set_up();
   } else {
-    // Every rank passes here: a failure on any of them (bad input on all, an output folder
-    // only rank 0 cannot make) is printed once and every rank exits with it.
+    // Every rank passes each of these points: a failure on any of them (bad input on all, a
+    // refusal on one node only, an output folder only rank 0 cannot make) is printed once and
+    // every rank exits with it. The ranks agree on the loaded case before any collective.
     std::string message;
-    const int status = ranks::agree_on_failure(status_of(set_up, message), message);
+    int status = ranks::agree_on_failure(status_of(load, message), message);
+    if (status == 0)
+      status = agree_on_loaded_case(
+          {resolved_case, &*scene_holder, out, opt.restart, opt.gather_output});
+    if (status == 0) status = ranks::agree_on_failure(status_of(set_up, message), message);
     if (status != 0) return status;
   }
   Simulation& sim = *sim_holder;

@@ -37,6 +37,7 @@ std::unique_ptr<Condition> make_condition(const CaseNode& node, const ConditionT
   }
   std::unique_ptr<Condition> c = it->second(node, target);
   node.finish();
+  c->set_where(node.where());
   return c;
 }
 

@@ -53,9 +53,15 @@ class Condition {
   virtual void set_value(const Vec3&) {
     throw std::invalid_argument("this condition has no value that can be changed");
   }
+  // "case.yaml:12: conditions[0]", for errors about what the condition asks (make_condition).
+  const std::string& where() const { return where_; }
+  void set_where(std::string where) { where_ = std::move(where); }
 
  protected:
   std::vector<std::uint32_t> points_;
+
+ private:
+  std::string where_;
 };
 
 using ConditionFactory =

@@ -1,9 +1,14 @@
 #include "src/engine/ranks.hpp"
 
+#include <chrono>
+#include <condition_variable>
 #include <cstdlib>
 #include <iostream>
 #include <limits>
+#include <mutex>
+#include <optional>
 #include <stdexcept>
+#include <thread>
 
 #ifdef CKPD_WITH_MPI
 #include <mpi.h>
@@ -178,6 +183,42 @@ void exchange([[maybe_unused]] const std::vector<std::vector<double>>& send,
 #endif
 }
 
+#ifdef CKPD_WITH_MPI
+namespace {
+
+// Exits the process (printing `message`) unless destroyed within kAgreeSeconds.
+class Watchdog {
+ public:
+  Watchdog(int status, std::string message)
+      : thread_([this, status, message = std::move(message)] {
+          std::unique_lock<std::mutex> lock(mutex_);
+          if (done_.wait_for(lock, std::chrono::seconds(kAgreeSeconds), [this] { return over_; }))
+            return;
+          std::cerr << "ckpd: error: rank " << rank() << ": " << message
+                    << " (the other ranks did not stop with it: ending the job)" << std::endl;
+          std::_Exit(status);  // mpirun ends the other ranks of a job that lost one
+        }) {}
+  ~Watchdog() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      over_ = true;
+    }
+    done_.notify_one();
+    thread_.join();
+  }
+  Watchdog(const Watchdog&) = delete;
+  Watchdog& operator=(const Watchdog&) = delete;
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable done_;
+  bool over_ = false;
+  std::thread thread_;  // last: it starts once the members above exist
+};
+
+}  // namespace
+#endif
+
 bool any(bool flag) {
 #ifdef CKPD_WITH_MPI
   if (count() > 1) {
@@ -221,6 +262,10 @@ std::uint64_t sum_wrapping(std::uint64_t value) {
 int agree_on_failure(int status, [[maybe_unused]] const std::string& message) {
 #ifdef CKPD_WITH_MPI
   if (count() > 1) {
+    // A rank that failed where the others did not may wait here while they wait in a collective
+    // it skipped: after kAgreeSeconds it prints its message and exits, and mpirun ends the job.
+    const std::optional<Watchdog> watchdog =
+        status != 0 ? std::optional<Watchdog>(std::in_place, status, message) : std::nullopt;
     int worst = 0;
     MPI_Allreduce(&status, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
     if (worst == 0) return 0;

@@ -65,7 +65,10 @@ std::uint64_t sum_wrapping(std::uint64_t value);
 // A failure in a phase that every rank passes (set-up, output folder, checkpoint): every rank
 // calls it with its exit status (0: none) and message. Returns the largest status over ranks;
 // the lowest failing rank prints its message once on stderr ("ckpd: error: ..."). With one rank
-// it only returns `status` (the caller prints as before).
+// it only returns `status` (the caller prints as before). A failing rank whose call is not met
+// by every rank within kAgreeSeconds (the others wait in a collective it skipped) prints its
+// message and exits with `status`, and mpirun ends the job: a rank's failure never hangs it.
+inline constexpr int kAgreeSeconds = 5;
 int agree_on_failure(int status, const std::string& message);
 
 // Stops every rank at once after an error that only some ranks may have seen (a write failing

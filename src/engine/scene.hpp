@@ -38,8 +38,12 @@ struct SceneBody {
 };
 
 struct TimeSettings {
+  // The most steps a run plans (time.steps, or time.end over dt): far beyond any run (a million
+  // steps a second for eleven days), and step x dt stays exact in a double.
+  static constexpr long long kMaxSteps = 1'000'000'000'000;
   double end_time = std::numeric_limits<double>::quiet_NaN();  // run until this time, or
   long long steps = -1;                                        // this many steps
+  std::string end_where;     // "case.yaml:12: time.end", for errors about the case's end time
   std::optional<double> dt;  // none: safety x the stable-step estimate
   std::string dt_where;      // "case.yaml:12: time.dt", for errors about the case's dt
   double safety = 0.8;

@@ -88,6 +88,22 @@ double half_work_increment(const Body& b, double dt) {
   return total;
 }
 
+// The steps of size dt that cover `duration` (the last one shortened): refused, naming
+// time.end, when they are more than a run plans (a count past 2^63 would wrap, and a run of 1e30
+// s took one step of the whole duration).
+long long planned_count(const TimeSettings& time, double duration, double dt, bool user_dt) {
+  const double count = std::ceil(duration / dt - 1e-9);
+  if (count <= static_cast<double>(TimeSettings::kMaxSteps)) return static_cast<long long>(count);
+  std::ostringstream msg;
+  msg << (time.end_where.empty() ? "time.end" : time.end_where) << " = " << time.end_time
+      << " s: " << duration << " s to run at dt = " << dt << " s "
+      << (user_dt ? "(time.dt)" : "(the stable step)") << " are " << count
+      << " steps, more than the " << static_cast<double>(TimeSettings::kMaxSteps)
+      << " a run may plan; expected an end time that a run reaches";
+  if (user_dt) msg << ", or a larger time.dt";
+  throw std::invalid_argument(msg.str());
+}
+
 // The fastest any point of the body is set to move by its conditions (initial and prescribed
 // velocities) or its rigid motion, before the run starts.
 double initial_speed(const SceneBody& sb) {
@@ -95,6 +111,15 @@ double initial_speed(const SceneBody& sb) {
   for (const auto& c : sb.conditions) v = std::max(v, c->max_speed());
   if (sb.rigid) v = std::max(v, sb.rigid->max_speed(sb.body));
   return v;
+}
+
+// Where the fastest speed of initial_speed comes from: its condition's line, or the rigid
+// body's motion.
+std::string speed_source(const SceneBody& sb) {
+  const double v = initial_speed(sb);
+  for (const auto& c : sb.conditions)
+    if (c->max_speed() == v && !c->where().empty()) return c->where();
+  return "body '" + sb.body.name + "' (its rigid motion)";
 }
 
 }  // namespace
@@ -151,10 +176,12 @@ StepChoice choose_time_step(const Scene& scene) {
     }
     if (closing > stoppable && !scene.time.allow_unstable_dt) {
       std::ostringstream msg;
-      // The speeds come from the case's initial or prescribed velocities.
-      if (!scene.case_file.empty()) msg << scene.case_file << ": conditions: ";
-      msg << "bodies " << scene.bodies[p.a].body.name << "/" << scene.bodies[p.b].body.name
-          << " close at " << closing
+      // The speeds come from the case's initial or prescribed velocities: the faster body's.
+      const SceneBody& fast = initial_speed(scene.bodies[p.a]) >= initial_speed(scene.bodies[p.b])
+                                  ? scene.bodies[p.a]
+                                  : scene.bodies[p.b];
+      msg << speed_source(fast) << ": bodies " << scene.bodies[p.a].body.name << "/"
+          << scene.bodies[p.b].body.name << " close at " << closing
           << " m/s, faster than their contact can stop within l_c = " << p.radius
           << " m (l_c sqrt(k / rho) = " << stoppable << " m/s for body '" << soft
           << "'): they would pass through each other; lower the speed, raise contact.stiffness "
@@ -223,7 +250,7 @@ Simulation::Simulation(Scene& scene, std::unique_ptr<Distribution> distribution)
   } else {
     // The last step is shortened so that the run ends exactly at time.end (it never goes past).
     planned_steps_ = std::max<long long>(
-        1, static_cast<long long>(std::ceil(scene_.time.end_time / step_choice_.dt - 1e-9)));
+        1, planned_count(scene_.time, scene_.time.end_time, step_choice_.dt, step_choice_.user_dt));
     last_dt_ = scene_.time.end_time - static_cast<double>(planned_steps_ - 1) * step_choice_.dt;
   }
   double max_speed = 0;
@@ -457,7 +484,10 @@ void Simulation::clip_next_step() {
     next_dt_ = 0.5 * left;
     planned_steps_ = step_ + 2;
   } else {
-    planned_steps_ = step_ + static_cast<long long>(std::ceil(left / next_dt_ - 1e-9));
+    // A plan for the progress line: an adaptive step may fall far below dt, so the count
+    // saturates instead of overflowing (the run ends at time.end, not at this count).
+    const double count = std::ceil(left / next_dt_ - 1e-9);
+    planned_steps_ = step_ + static_cast<long long>(std::min(count, 9e18 - double(step_)));
   }
 }
 
@@ -596,6 +626,10 @@ void Simulation::advance(bool with_energy) {
     }
     plan_next_step(now);
   }
+  if (with_energy) {
+    kick_work_ = 0;
+    for (const SceneBody& sb : scene_.bodies) kick_work_ += half_work_increment(sb.body, dt);
+  }
   if (distribution_) reduce_books(with_energy);
   if (with_energy) check_energy();
 }
@@ -607,7 +641,7 @@ void Simulation::reduce_books(bool with_energy) {
   v.assign({external_work_, dissipated_, strain_energy_, kinetic_energy(),
             manager ? manager->energy() : 0.0, manager ? manager->damping_dissipated() : 0.0,
             manager ? manager->friction_dissipated() : 0.0,
-            manager ? static_cast<double>(manager->statistics().contact_ends) : 0.0});
+            manager ? static_cast<double>(manager->statistics().contact_ends) : 0.0, kick_work_});
   const std::size_t failed_at = v.size(), inverted_at = failed_at + bodies;
   for (std::size_t k = 0; k < bodies; ++k) v.push_back(static_cast<double>(failed_[k]));
   for (std::size_t k = 0; k < bodies; ++k) v.push_back(static_cast<double>(inverted_[k]));
@@ -636,6 +670,7 @@ void Simulation::reduce_books(bool with_energy) {
   books_.contact = v[4];
   books_.contact_damping = v[5];
   books_.contact_friction = v[6];
+  books_.kick_work = v[8];
   books_.contact_pairs = static_cast<std::uint64_t>(v[7]) / 2;
   books_.contact_pairs_peak = std::max(books_.contact_pairs_peak, books_.contact_pairs);
   books_.failed.resize(bodies);
@@ -765,7 +800,9 @@ void Simulation::check_stable_step() {
 void Simulation::check_energy() const {
   const Energies e = energies();
   const double now = e.kinetic + e.strain + e.contact;
-  const double supplied = initial_total_ + std::abs(e.external_work);
+  // The energy put in: at the start, plus the loads' work to the end of the step's last kick.
+  const double kick_work = distribution_ ? books_.kick_work : kick_work_;
+  const double supplied = initial_total_ + std::abs(e.external_work) + std::abs(kick_work);
   if (now > 0 && now > 10 * supplied) {
     // Where: the point with the largest kinetic plus strain energy.
     const Body* where_body = nullptr;
@@ -839,8 +876,8 @@ void Simulation::restore(const Counters& c) {
   origin_step_ = on_grid ? 0 : c.step;
   if (scene_.time.steps < 0) {
     const double left = scene_.time.end_time - c.time;
-    const auto more =
-        std::max<long long>(0, static_cast<long long>(std::ceil(left / step_choice_.dt - 1e-9)));
+    const auto more = std::max<long long>(
+        0, planned_count(scene_.time, left, step_choice_.dt, step_choice_.user_dt));
     planned_steps_ = c.step + more;
     last_dt_ = more > 0 ? left - static_cast<double>(more - 1) * step_choice_.dt : 0;
   }

@@ -268,6 +268,10 @@ class Simulation {
   double dissipated_ = 0;
   double strain_energy_ = 0;
   double initial_total_ = 0;
+  // The work the loads do over the last kick (dt / 2 at the end-of-step velocities): the energy
+  // guard's reference counts it (a load ramping up from zero has done no work by the first step's
+  // drift, yet the step's last kick gave the points their kinetic energy).
+  double kick_work_ = 0;
   std::vector<std::size_t> initially_failed_;
   std::vector<std::uint64_t> inverted_;
   std::uint64_t max_inverted_ = 0;
@@ -300,6 +304,7 @@ class Simulation {
   std::unique_ptr<Distribution> distribution_;
   struct Books {
     double external_work = 0, dissipated = 0, strain = 0, kinetic = 0, max_damage = 0;
+    double kick_work = 0;
     double contact = 0;  // contact energy, summed over the ranks' owned points
     double contact_damping = 0, contact_friction = 0;  // dissipated by contact, summed likewise
     std::uint64_t contact_ghosts_peak = 0;

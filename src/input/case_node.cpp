@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "src/input/nearest_name.hpp"
+#include "src/input/yaml_document.hpp"
 
 namespace ckpd {
 
@@ -305,22 +306,7 @@ void check_yaml_document(const YAML::Node& root, const std::string& file) {
 
 YAML::Node load_case_yaml(const std::string& file, const std::vector<std::string>& overrides,
                           std::vector<CaseNode::Override>* applied) {
-  if (!std::filesystem::is_regular_file(file))
-    throw CaseError(file + ": case file not found (or not a regular file)");
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file);
-  } catch (const YAML::DeepRecursion& e) {
-    throw CaseError(file + ":" + std::to_string(e.mark.line + 1) + ": nested deeper than " +
-                    std::to_string(e.depth()) + " levels (a case file nests a few)");
-  } catch (const YAML::ParserException& e) {
-    throw CaseError(file + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
-  } catch (const YAML::BadFile&) {
-    throw CaseError(file + ": cannot read the case file");
-  } catch (const YAML::Exception& e) {
-    throw CaseError(file + ": cannot read the case file: " + e.what());
-  }
-  check_yaml_document(root, file);
+  YAML::Node root = load_yaml_file(file, "case file");
   if (!root.IsMap())
     throw CaseError(file + ": a case file is a map of sections (materials, bodies, ...)");
   apply_overrides(root, overrides, file, applied);
@@ -351,6 +337,8 @@ void apply_overrides(YAML::Node& root, const std::vector<std::string>& overrides
     } catch (const YAML::Exception& e) {
       throw CaseError("--set " + item + ": the value is not valid YAML: " + e.msg);
     }
+    std::istringstream events(text);  // an alias inside itself, an alias bomb: refused
+    check_yaml_events(events, "--set " + item, "value");
     std::vector<std::string> keys;
     std::stringstream ss(path);
     for (std::string k; std::getline(ss, k, '.');) keys.push_back(k);

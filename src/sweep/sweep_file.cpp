@@ -9,6 +9,7 @@
 #include <regex>
 #include <set>
 
+#include "src/input/yaml_document.hpp"
 #include "src/sweep/csv.hpp"
 #include "src/sweep/expression.hpp"
 #include "src/sweep/generators.hpp"
@@ -30,11 +31,6 @@ Value make_value(double number) {
 }
 
 namespace {
-
-// The most runs one sweep file resolves: each is a whole simulation, and resolving checks each
-// run's case (about a millisecond each), so 100,000 runs resolve in a few minutes at most. A
-// larger study is several sweep files. Ranges and samples are bounded by the same number.
-constexpr long long kMaxRuns = 100'000;
 
 const std::set<std::string> kReservedColumns{"index",  "description", "hash",        "folder",
                                              "status", "message",     "wall_seconds"};
@@ -279,14 +275,12 @@ std::string substitute(const std::string& label, const std::vector<Spec>& specs,
 }  // namespace
 
 Sweep load_sweep(const std::string& file) {
-  if (!std::filesystem::is_regular_file(file))
-    throw SweepError(file + ": sweep file not found (or not a regular file)");
   YAML::Node yaml;
   try {
-    yaml = YAML::LoadFile(file);
-  } catch (const YAML::ParserException& e) {
-    throw SweepError(file + ":" + std::to_string(e.mark.line + 1) +
-                     ": YAML syntax error: " + e.msg);
+    // The case files' checks: aliases, size, depth, keys given twice or not plain names.
+    yaml = load_yaml_file(file, "sweep file");
+  } catch (const CaseError& e) {
+    throw SweepError(e.what());
   }
   if (!yaml.IsMap()) throw SweepError(file + ": a sweep file is a map (base, parameters, ...)");
   const CaseNode root(yaml, file);

@@ -17,6 +17,11 @@ class SweepError : public CaseError {
   using CaseError::CaseError;
 };
 
+// The most runs one sweep file resolves: each is a whole simulation, and resolving checks each
+// run's case (about a millisecond each), so 100,000 runs resolve in a few minutes at most. A
+// larger study is several sweep files. Ranges, samples and a shard's `runs` are bounded by it.
+constexpr long long kMaxRuns = 100'000;
+
 // One resolved value: its YAML text as given to `--set` ("0.01", "strain", "[0, 0, -50]") and
 // its number when it is one (expressions and ranges read numbers).
 struct Value {

@@ -8,6 +8,7 @@
 
 #include "src/sweep/csv.hpp"
 #include "src/sweep/generators.hpp"
+#include "src/sweep/shard_check.hpp"
 
 namespace ckpd::sweep {
 
@@ -102,37 +103,40 @@ std::vector<std::vector<std::string>> parse_csv(const std::string& text, const s
   return rows;
 }
 
+// The position of a column the merge reads; throws when the table has none.
+std::size_t column(const std::vector<std::string>& header, const std::string& name,
+                   const std::string& dir) {
+  for (std::size_t c = 0; c < header.size(); ++c)
+    if (header[c] == name) return c;
+  throw SweepError(dir + "/sweep.csv: the header has no column '" + name + "'");
+}
+
 }  // namespace
 
 std::size_t merge_sweep_tables(const std::vector<std::string>& dirs, const std::string& out,
                                bool allow_missing, std::string& report) {
   if (dirs.empty()) throw SweepError("sweep-merge: give the shards' output folders");
-  std::filesystem::create_directories(out);
-  nlohmann::json first;
+  ShardMeta first;
   std::vector<std::string> header;
   std::map<std::size_t, std::vector<std::string>> rows;
   std::map<std::size_t, std::string> source;
-  std::size_t total = 0;
+  std::size_t unbacked = 0;  // rows marked completed that their run folder does not back
   for (const std::string& dir : dirs) {
-    nlohmann::json meta;
-    try {
-      meta = nlohmann::json::parse(read_text(dir + "/sweep.json"));
-    } catch (const nlohmann::json::exception& e) {
-      throw SweepError(dir + "/sweep.json: not valid JSON: " + e.what());
-    }
+    const ShardMeta meta = read_shard_meta(dir);
     const auto table = parse_csv(read_text(dir + "/sweep.csv"), dir + "/sweep.csv");
     if (table.empty()) throw SweepError(dir + "/sweep.csv: empty");
-    if (first.is_null()) {
+    if (header.empty()) {
       first = meta;
       header = table[0];
-      total = meta.at("runs").get<std::size_t>();
-    } else if (meta.at("sweep_id") != first.at("sweep_id") || table[0] != header) {
-      throw SweepError(dir + " holds another sweep (sweep_id " + meta.at("sweep_id").dump() + ", " +
-                       dirs[0] + " has " + first.at("sweep_id").dump() +
+    } else if (meta.sweep_id != first.sweep_id || meta.runs != first.runs || table[0] != header) {
+      throw SweepError(dir + " holds another sweep (sweep_id " + meta.sweep_id.dump() + ", " +
+                       dirs[0] + " has " + first.sweep_id.dump() +
                        "): merge shards of one sweep file");
     }
-    std::size_t folder_col = 0;
-    while (folder_col < header.size() && header[folder_col] != "folder") ++folder_col;
+    const std::size_t total = first.runs;
+    const std::size_t folder_col = column(header, "folder", dir);
+    const std::size_t hash_col = column(header, "hash", dir);
+    const std::size_t status_col = column(header, "status", dir);
     const std::string rel =
         std::filesystem::relative(std::filesystem::absolute(dir), std::filesystem::absolute(out))
             .lexically_normal()
@@ -154,15 +158,31 @@ std::size_t merge_sweep_tables(const std::vector<std::string>& dirs, const std::
       if (rows.count(index))
         throw SweepError("run " + row[0] + " is in both " + source[index] + " and " + dir +
                          ": the shards overlap");
-      if (folder_col < row.size()) row[folder_col] = rel + "/" + row[folder_col];
+      if (row[status_col] == "completed") {
+        const std::string problem =
+            completed_run_problem(dir + "/" + row[folder_col], row[hash_col]);
+        if (!problem.empty()) {
+          const std::string msg = dir + "/sweep.csv: run " + row[0] + " is marked completed but " +
+                                  problem + ": run the shard again (ckpd sweep resumes it)";
+          if (!allow_missing)
+            throw SweepError("sweep-merge: " + msg +
+                             ", or merge with "
+                             "--allow-missing to leave it out");
+          report += "warning: " + msg + "; left out\n";
+          ++unbacked;
+          continue;
+        }
+      }
+      row[folder_col] = rel + "/" + row[folder_col];
       rows[index] = row;
       source[index] = dir;
     }
   }
+  const std::size_t total = first.runs;
   std::vector<std::size_t> missing;
   for (std::size_t i = 0; i < total; ++i)
     if (!rows.count(i)) missing.push_back(i);
-  if (!missing.empty()) {
+  if (missing.size() > unbacked) {
     std::string list;
     for (std::size_t k = 0; k < missing.size() && k < 20; ++k)
       list += (k ? ", " : "") + std::to_string(missing[k]);
@@ -172,19 +192,19 @@ std::size_t merge_sweep_tables(const std::vector<std::string>& dirs, const std::
     if (!allow_missing) throw SweepError("sweep-merge: " + msg);
     report += "warning: " + msg + "\n";
   }
-  std::size_t status_col = 0;
-  while (status_col < header.size() && header[status_col] != "status") ++status_col;
+  const std::size_t status_col = column(header, "status", dirs[0]);
   std::size_t unfinished = 0;
   std::string text = csv_line(header) + "\n";
   for (const auto& [index, row] : rows) {
     text += csv_line(row) + "\n";
     if (row[status_col] != "completed") ++unfinished;
   }
+  std::filesystem::create_directories(out);
   write_atomically(out + "/sweep.csv", text);
   nlohmann::ordered_json meta;
-  meta["sweep_file"] = first.at("sweep_file");
-  meta["base"] = first.at("base");
-  meta["sweep_id"] = first.at("sweep_id");
+  meta["sweep_file"] = first.sweep_file;
+  meta["base"] = first.base;
+  meta["sweep_id"] = first.sweep_id;
   meta["runs"] = total;
   meta["shard"] = missing.empty() ? "1/1" : "partial";
   meta["merged_from"] = dirs;

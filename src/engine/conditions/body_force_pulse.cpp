@@ -17,8 +17,10 @@ class BodyForcePulse : public Condition {
   }
   void add_external_force(Body& body, double t) const override {
     if (t > duration_) return;
-    const double h = t - duration_ / 2;
-    const double p = -4 * peak_ / (duration_ * duration_) * h * h + peak_;
+    // p0 (1 - (2h / t1)^2) with h = t - t1/2, as 4 p0 u (1 - u) with u = t / t1 in [0, 1]:
+    // finite for every t1 > 0 (p0 / t1^2 is infinite below t1 = 1e-154, and infinity x 0 NaN).
+    const double u = t / duration_;
+    const double p = 4 * peak_ * u * (1 - u);
     const Vec3 b = (p / spacing_) * direction_;
     for (std::uint32_t i : points_) body.external_force_density[i] += b;
   }

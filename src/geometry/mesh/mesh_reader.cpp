@@ -8,12 +8,15 @@
 #include <unistd.h>
 
 #include <assimp/Importer.hpp>
+#include <cctype>
 #include <cerrno>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <unordered_map>
+
+#include "src/geometry/mesh/ply_header.hpp"
 
 #if defined(__has_feature)
 #define CKPD_HAS_ADDRESS_SANITIZER __has_feature(address_sanitizer)
@@ -168,6 +171,9 @@ TriangleMesh read_mesh_file(const std::string& path) {
   if (size > kMaxMeshFileBytes)
     throw MeshError("a mesh file of at most " + std::to_string(kMaxMeshFileBytes >> 20) + " MiB (" +
                     path + " has " + std::to_string(size >> 20) + " MiB)");
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension == ".ply") check_ply_header(path);  // a cut header kept assimp busy 2 minutes
 
   // The import runs in a child process: an importer that crashes, aborts or runs away (all
   // seen with assimp on malformed files) ends the child, not ckpd, and becomes an error here.
