@@ -59,6 +59,10 @@ inline void refuse_keys_of(const CaseNode& m, const std::string& mine, const std
 // `fallback` (1/2: l/L - 1). Shared by the models that take a strain measure.
 double strain_measure_of(const CaseNode& m, double fallback = 0.5);
 
+// Keys several models share, for their key-table variants (src/input/key_table.hpp).
+KeySpec strain_measure_key();
+KeySpec fracture_energy_key(const std::string& fallback);
+
 // Reads a material's own keys (not `model`); the caller rejects any key left unread.
 using MaterialFactory = std::function<std::unique_ptr<MaterialModel>(const CaseNode&)>;
 std::map<std::string, MaterialFactory>& material_registry();
