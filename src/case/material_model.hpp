@@ -13,6 +13,7 @@
 #include "bodies/body.hpp"
 #include "contact/dem_law.hpp"
 #include "src/input/case_node.hpp"
+#include "src/input/key_table.hpp"
 
 namespace ckpd {
 

@@ -8,6 +8,7 @@
 #include <limits>
 #include <sstream>
 
+#include "src/input/key_table.hpp"
 #include "src/input/nearest_name.hpp"
 
 namespace ckpd {
@@ -241,7 +242,8 @@ std::vector<std::pair<std::string, CaseNode>> CaseNode::entries() const {
   std::vector<std::pair<std::string, CaseNode>> out;
   for (const auto& kv : node_) {
     const std::string key = kv.first.as<std::string>();
-    const KeySpec* spec = declared(key);
+    // Every key counts as read: the input's keys, not the loader's, so none is a logic error.
+    const KeySpec* spec = section_ ? section_->find(key) : nullptr;
     used_->insert(key);
     out.emplace_back(key, child(kv.second, child_path(path_, key)));
     describe(out.back().second, spec);

@@ -12,9 +12,11 @@
 #include <vector>
 
 #include "bodies/vec.hpp"
-#include "src/input/key_table.hpp"
 
 namespace ckpd {
+
+struct KeySection;  // src/input/key_table.hpp
+struct KeySpec;
 
 // Bad input in a case file: the message names file, line, key path and what was expected.
 class CaseError : public std::runtime_error {

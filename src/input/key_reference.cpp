@@ -66,6 +66,8 @@ json value_schema(const KeySpec& k) {
       return array_of(text_schema(k.allowed));
     case ValueKind::vector:
       return vector;
+    case ValueKind::vector3:
+      return array_of(number, 3, 3);
     case ValueKind::number_or_vector:
       return {{"anyOf", {number, array_of(number, 3, 3)}}};
     case ValueKind::number_or_pair:
@@ -147,6 +149,13 @@ json section_schema(const KeySection& s) {
   return d;
 }
 
+// "a box" as a sentence: "A box."
+std::string sentence(std::string text) {
+  if (!text.empty() && text[0] >= 'a' && text[0] <= 'z')
+    text[0] = static_cast<char>(text[0] - 'a' + 'A');
+  return text + ".";
+}
+
 std::string cell(std::string text) {
   std::string out;
   for (char c : text) out += c == '|' ? std::string("\\|") : std::string(1, c);
@@ -219,6 +228,8 @@ std::string key_type_text(const KeySpec& k) {
       return "list of strings";
     case ValueKind::vector:
       return "[x, y] (2D) or [x, y, z] (3D)";
+    case ValueKind::vector3:
+      return "[x, y, z]";
     case ValueKind::number_or_vector:
       return "number (2D) or [x, y, z] (3D)";
     case ValueKind::number_or_pair:
@@ -268,7 +279,7 @@ std::string key_reference_markdown(const KeySection& root, const std::string& ti
         << s->meaning << "\n\n";
     table(out, *s, s->keys, true);
     for (const KeyVariant& v : s->variants) {
-      out << "\n### `" << s->discriminator << ": " << v.value << "`\n\n" << v.meaning << ".";
+      out << "\n### `" << s->discriminator << ": " << v.value << "`\n\n" << sentence(v.meaning);
       if (s->variants_inherited)
         out << " Without `" << s->discriminator << "` here, the keys of "
             << "the law in effect.";

@@ -22,6 +22,7 @@ enum class ValueKind {
   text,               // a string (`allowed` lists its values when they are fixed)
   names,              // a list of strings
   vector,             // [x, y] in 2D, [x, y, z] in 3D
+  vector3,            // [x, y, z] (a key of 3D bodies only)
   number_or_vector,   // a number in 2D (about z), [x, y, z] in 3D
   number_or_pair,     // a number, or [a, b]: one value per side of a contact pair
   numbers,            // a list of numbers

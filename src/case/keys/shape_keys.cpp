@@ -22,7 +22,7 @@ std::vector<KeySpec> mesh_file_keys() {
            {},
            "",
            "rotation"},
-          {"translation", K::vector, "m", "[0, 0, 0]", "a shift, after the rotation"}};
+          {"translation", K::vector3, "m", "[0, 0, 0]", "a shift, after the rotation"}};
 }
 
 const bool shape_registered = register_key_section([] {
@@ -51,8 +51,8 @@ const bool sphere_registered = register_key_variant(
 const bool cylinder_registered = register_key_variant(
     "shape", {"cylinder",
               "a circular cylinder (3D), centred on `center`",
-              {{"center", K::vector, "m", kRequired, "the centre of its axis"},
-               {"axis", K::vector, "-", "[0, 0, 1]", "the axis' direction", {}, "non-zero"},
+              {{"center", K::vector3, "m", kRequired, "the centre of its axis"},
+               {"axis", K::vector3, "-", "[0, 0, 1]", "the axis' direction", {}, "non-zero"},
                {"radius", K::number, "m", kRequired, "the radius", {}, "> 0"},
                {"height", K::number, "m", kRequired, "the length along the axis", {}, "> 0"}}});
 
@@ -82,7 +82,7 @@ const bool rotation_registered = register_key_section(
     {"rotation",
      "rotation",
      "A rotation of a mesh by an angle about an axis through the origin.",
-     {{"axis", K::vector, "-", kRequired, "the axis' direction, [x, y, z]", {}, "non-zero"},
+     {{"axis", K::vector3, "-", kRequired, "the axis' direction", {}, "non-zero"},
       {"degrees", K::number, "degree", kRequired, "the angle (right-handed about the axis)"}}});
 
 }  // namespace
