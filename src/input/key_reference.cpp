@@ -280,9 +280,6 @@ std::string key_reference_markdown(const KeySection& root, const std::string& ti
     table(out, *s, s->keys, true);
     for (const KeyVariant& v : s->variants) {
       out << "\n### `" << s->discriminator << ": " << v.value << "`\n\n" << sentence(v.meaning);
-      if (s->variants_inherited)
-        out << " Without `" << s->discriminator << "` here, the keys of "
-            << "the law in effect.";
       out << "\n\n";
       if (v.keys.empty())
         out << "No keys of its own.\n";

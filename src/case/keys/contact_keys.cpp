@@ -45,7 +45,7 @@ KeySpec friction_key() {
 // The laws' parameters, as contact/laws/ registers them (a test checks the two agree).
 std::vector<KeyVariant> law_variants() {
   return {{"repulsive",
-           "the seed's repulsion c (l_c - r) V^i V^j, c = 9 Ccon / (pi delta^5); no friction",
+           "the bond-based repulsion c (l_c - r) V^i V^j, c = 9 Ccon / (pi delta^5); no friction",
            {}},
           {"linear_dashpot",
            "a linear spring k = c V^i V^j with a dashpot from e, a linear tangential spring and "
@@ -107,7 +107,8 @@ KeySection contact_section() {
 KeySection pair_section() {
   KeySection s{"contact_pair",
                "contact.pairs entries",
-               "The settings of one pair of bodies; what a pair leaves out comes from `contact`.",
+               "The settings of one pair of bodies; what a pair leaves out comes from `contact`. A "
+               "pair without a `law` of its own takes the parameters of the law it inherits.",
                {{"bodies", K::names, "-", kRequired,
                  "the two bodies' names (the same twice: "
                  "self-contact)"},
@@ -122,7 +123,7 @@ KeySection pair_section() {
   s.variants = law_variants();
   for (KeyVariant& v : s.variants)
     for (KeySpec& k : v.keys)
-      if (k.required()) k.fallback = "contact's (required by the law)";
+      k.fallback = k.required() ? "contact's (the law needs it)" : "contact's, else " + k.fallback;
   return s;
 }
 
