@@ -10,11 +10,12 @@ cd "$(dirname "$0")/.."
 # libclang-rt-14-dev (libFuzzer, sanitizers) and libomp-dev: scripts/fuzz.sh; libopenmpi-dev and
 # openmpi-bin: MPI runs (`mpirun -np N ckpd run`, CMake option CKPD_MPI) and their tests;
 # libhdf5-openmpi-dev: the HDF5 for MPI, through which the ranks write frames and checkpoints;
-# libhwy-dev: Highway's vector logarithms for the Seth-Hill measures (bodies/CMakeLists.txt).
+# libhwy-dev: Highway's vector logarithms for the Seth-Hill measures (bodies/CMakeLists.txt);
+# python3-jsonschema: the tests that check the case files against `ckpd schema`.
 packages=(cmake g++ make libeigen3-dev libyaml-cpp-dev libcli11-dev catch2 nlohmann-json3-dev
           libhwy-dev libfcl-dev libassimp-dev libhdf5-dev libhdf5-openmpi-dev libxml2-dev python3 python3-h5py
           python3-matplotlib
-          pybind11-dev python3-dev python3-numpy python3-pytest python3-yaml
+          pybind11-dev python3-dev python3-numpy python3-pytest python3-yaml python3-jsonschema
           clang libclang-rt-14-dev libomp-dev libopenmpi-dev openmpi-bin)
 missing=()
 for p in "${packages[@]}"; do

@@ -10,6 +10,7 @@
 #include "src/cli/cli_options.hpp"
 #include "src/cli/patch_test_command.hpp"
 #include "src/cli/run_command.hpp"
+#include "src/cli/schema_command.hpp"
 #include "src/cli/sweep_command.hpp"
 #include "src/input/case_node.hpp"
 #include "src/input/nearest_name.hpp"
@@ -65,6 +66,7 @@ int main(int argc, char** argv) {
   ckpd::add_check_command(app, exit_status);
   ckpd::add_patch_test_command(app);
   ckpd::add_sweep_command(app, exit_status);
+  ckpd::add_schema_command(app);
   if (const std::string bad = check_command_name(argc, argv, app); !bad.empty())
     return usage_error(bad);
   try {

@@ -10,6 +10,7 @@
 #include "bodies/material.hpp"
 #include "bodies/patch_test.hpp"
 #include "src/case/contact_loader.hpp"
+#include "src/case/keys/case_keys.hpp"
 #include "src/case/material_model.hpp"
 #include "src/case/rigid_body_loader.hpp"
 #include "src/geometry/lattice.hpp"
@@ -483,6 +484,7 @@ Scene load_scene(YAML::Node resolved, const std::string& case_file,
   drop_replaced_time_key(resolved, applied);
   CaseNode root(resolved, case_file);
   root.set_overrides(std::move(applied));
+  root.set_key_section(&case_key_section());
   Scene scene;
   scene.case_file = case_file;
   scene.physics = physics_text(resolved);

@@ -4,6 +4,59 @@
 
 namespace ckpd {
 
+namespace {
+
+// The keys every material takes (each model adds its own: src/case/materials/) and the strain
+// measure's, in the key table (src/input/key_table.hpp).
+const bool material_keys_registered = register_key_section([] {
+  KeySection s{"material",
+               "materials entries",
+               "A material, under its name in `materials`. Its `model` (the force model) picks its "
+               "keys.",
+               {{"model", ValueKind::text, "-", "ckpd", "the force model"},
+                {"density",
+                 ValueKind::number,
+                 "kg/m^3 (kg/m^2 in 2D)",
+                 kRequired,
+                 "the mass density",
+                 {},
+                 "1e-9 to 1e9"}}};
+  s.discriminator = "model";
+  s.default_variant = "ckpd";
+  return s;
+}());
+
+const bool strain_measure_keys_registered = register_key_section(
+    {"strain_measure",
+     "strain_measure",
+     "The Seth-Hill strain measure e_m = (r^(2m) - 1) / (2m) of every bond, triangle and "
+     "tetrahedron's stretch ratio r (m = 0: log r).",
+     {{"m", ValueKind::number, "-", kRequired,
+       "the exponent m: 0.5 is r - 1 (the measure without this key), 0 is log r"}}});
+
+}  // namespace
+
+KeySpec strain_measure_key() {
+  return {"strain_measure",
+          ValueKind::section,
+          "-",
+          "m = 0.5 (r - 1)",
+          "the strain measure of every family",
+          {},
+          "",
+          "strain_measure"};
+}
+
+KeySpec fracture_energy_key(const std::string& fallback) {
+  return {"fracture_energy",
+          ValueKind::number,
+          "J/m^2 (J/m in 2D)",
+          fallback,
+          "the fracture energy Gc, from which bonds fail",
+          {},
+          "> 0"};
+}
+
 double strain_measure_of(const CaseNode& m, double fallback) {
   auto sm = m.optional("strain_measure");
   if (!sm) return fallback;

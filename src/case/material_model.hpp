@@ -13,6 +13,7 @@
 #include "bodies/body.hpp"
 #include "contact/dem_law.hpp"
 #include "src/input/case_node.hpp"
+#include "src/input/key_table.hpp"
 
 namespace ckpd {
 
@@ -60,6 +61,10 @@ inline void refuse_keys_of(const CaseNode& m, const std::string& mine, const std
 // A Seth-Hill exponent m is refused outside [-kMaxStrainMeasure, kMaxStrainMeasure].
 constexpr double kMaxStrainMeasure = 2;
 double strain_measure_of(const CaseNode& m, double fallback = 0.5);
+
+// Keys several models share, for their key-table variants (src/input/key_table.hpp).
+KeySpec strain_measure_key();
+KeySpec fracture_energy_key(const std::string& fallback);
 
 // Reads a material's own keys (not `model`); the caller rejects any key left unread.
 using MaterialFactory = std::function<std::unique_ptr<MaterialModel>(const CaseNode&)>;

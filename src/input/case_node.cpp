@@ -8,6 +8,7 @@
 #include <limits>
 #include <sstream>
 
+#include "src/input/key_table.hpp"
 #include "src/input/nearest_name.hpp"
 #include "src/input/yaml_document.hpp"
 
@@ -63,6 +64,30 @@ std::string node_text(const YAML::Node& node) {
   return "nothing";
 }
 
+// The section of a map: `s`, or its alternative when the map holds the alternative's key.
+const KeySection* resolve(const KeySection* s, const YAML::Node& node) {
+  if (!s || s->alternative_key.empty() || !node.IsMap() || !node[s->alternative_key]) return s;
+  const KeySection* alternative = find_key_section(s->alternative);
+  if (!alternative)
+    throw std::logic_error("key section '" + s->name + "' names alternative '" + s->alternative +
+                           "', which is not registered");
+  return alternative;
+}
+
+// The variant a map of section `s` is (its discriminator's value, or the default), kept in
+// `store`; null when the section has no variants or the value names none.
+const std::string* variant_of(const KeySection& s, const YAML::Node& node, std::string& store) {
+  if (s.discriminator.empty() || !node.IsMap()) return nullptr;
+  const YAML::Node d = node[s.discriminator];
+  if (d && d.IsScalar())
+    store = d.Scalar();
+  else if (!d && !s.default_variant.empty())
+    store = s.default_variant;
+  else
+    return nullptr;
+  return s.find_variant(store) ? &store : nullptr;
+}
+
 }  // namespace
 
 CaseNode::CaseNode(YAML::Node node, std::string file, std::string path)
@@ -75,6 +100,47 @@ void CaseNode::set_overrides(std::vector<Override> overrides) {
   overrides_ = std::make_shared<const std::vector<Override>>(std::move(overrides));
   for (const Override& o : *overrides_)
     if (o.value.is(node_)) override_ = o.text;
+}
+
+void CaseNode::set_key_section(const KeySection* section) {
+  section_ = resolve(section, node_);
+}
+
+const KeySpec* CaseNode::declared(const std::string& key) const {
+  if (!section_) return nullptr;
+  std::string store;
+  if (const KeySpec* k = section_->find(key, variant_of(*section_, node_, store))) return k;
+  if (const KeySpec* k = section_->find(key)) return k;  // another variant's, read to refuse it
+  if (key == section_->alternative_key) return nullptr;  // asks whether the map is the other kind
+  if (const KeySection* other = find_key_section(section_->refuses_keys_of))
+    if (other->find(key)) return nullptr;
+  throw std::logic_error("the loader reads key '" + key + "' of " +
+                         (path_.empty() ? std::string("the top level") : path_) +
+                         ", which key section '" + section_->name +
+                         "' does not declare (src/input/key_table.hpp)");
+}
+
+void CaseNode::describe(CaseNode& c, const KeySpec* spec) const {
+  if (!spec || spec->ref.empty()) return;
+  const KeySection* ref = find_key_section(spec->ref);
+  if (!ref)
+    throw std::logic_error("key '" + spec->name + "' names key section '" + spec->ref +
+                           "', which is not registered");
+  if (spec->kind == ValueKind::sections || spec->kind == ValueKind::named_sections)
+    c.items_ = ref;
+  else
+    c.section_ = resolve(ref, c.node_);
+}
+
+std::vector<std::string> CaseNode::known_keys(bool present_unread) const {
+  if (!section_) return {used_->begin(), used_->end()};
+  // The table's keys for this map's variant (the keys of other variants and sections that the
+  // loader reads only to refuse them are none of them).
+  std::set<std::string> known;
+  std::string store;
+  for (const std::string& k : section_->key_names(variant_of(*section_, node_, store)))
+    if (!present_unread || used_->count(k) || !node_.IsMap() || !node_[k]) known.insert(k);
+  return {known.begin(), known.end()};
 }
 
 CaseNode CaseNode::child(YAML::Node node, std::string path) const {
@@ -100,10 +166,11 @@ std::string CaseNode::key_where(const YAML::Node& key, const std::string& name) 
 
 std::string CaseNode::misspelt_key_error() const {
   if (!node_.IsMap()) return "";
-  const std::vector<std::string> known(used_->begin(), used_->end());
+  const std::vector<std::string> known = known_keys(false);
   for (const auto& kv : node_) {
     const std::string key = kv.first.as<std::string>();
-    if (used_->count(key)) continue;
+    // A key of the table not read yet is no misspelling.
+    if (used_->count(key) || (section_ && section_->find(key))) continue;
     const std::string near = nearest_name(key, known);
     if (!near.empty())
       return key_where(kv.first, key) + ": unknown key '" + key + "' (did you mean '" + near +
@@ -130,15 +197,19 @@ void CaseNode::fail(const std::string& expected) const {
 }
 
 bool CaseNode::has(const std::string& key) const {
+  declared(key);
   return node_.IsMap() && node_[key];
 }
 
 std::optional<CaseNode> CaseNode::optional(const std::string& key) const {
   if (!node_.IsMap()) fail("a map");
+  const KeySpec* spec = declared(key);
   used_->insert(key);
   const YAML::Node child = node_[key];
   if (!child || child.IsNull()) return std::nullopt;
-  return this->child(child, child_path(path_, key));
+  CaseNode c = this->child(child, child_path(path_, key));
+  describe(c, spec);
+  return c;
 }
 
 CaseNode CaseNode::required(const std::string& key) const {
@@ -160,8 +231,10 @@ CaseNode CaseNode::required(const std::string& key) const {
 std::vector<CaseNode> CaseNode::elements() const {
   if (!node_.IsSequence()) fail("a list");
   std::vector<CaseNode> out;
-  for (std::size_t i = 0; i < node_.size(); ++i)
+  for (std::size_t i = 0; i < node_.size(); ++i) {
     out.push_back(child(node_[i], path_ + "[" + std::to_string(i) + "]"));
+    out.back().section_ = resolve(items_, out.back().node_);
+  }
   return out;
 }
 
@@ -170,8 +243,12 @@ std::vector<std::pair<std::string, CaseNode>> CaseNode::entries() const {
   std::vector<std::pair<std::string, CaseNode>> out;
   for (const auto& kv : node_) {
     const std::string key = kv.first.as<std::string>();
+    // Every key counts as read: the input's keys, not the loader's, so none is a logic error.
+    const KeySpec* spec = section_ ? section_->find(key) : nullptr;
     used_->insert(key);
     out.emplace_back(key, child(kv.second, child_path(path_, key)));
+    describe(out.back().second, spec);
+    if (items_) out.back().second.section_ = resolve(items_, out.back().second.node_);
   }
   return out;
 }
@@ -263,7 +340,7 @@ void CaseNode::finish() const {
     if (!used_->count(key)) {
       std::ostringstream s;
       s << key_where(kv.first, key) << ": unknown key '" << key << "'";
-      const std::vector<std::string> known(used_->begin(), used_->end());
+      const std::vector<std::string> known = known_keys(true);
       if (const std::string near = nearest_name(key, known); !near.empty())
         s << " (did you mean '" << near << "'?)";
       else if (!known.empty())

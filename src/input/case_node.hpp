@@ -15,6 +15,9 @@
 
 namespace ckpd {
 
+struct KeySection;  // src/input/key_table.hpp
+struct KeySpec;
+
 // Bad input in a case file: the message names file, line, key path and what was expected.
 class CaseError : public std::runtime_error {
  public:
@@ -75,12 +78,27 @@ class CaseNode {
   };
   void set_overrides(std::vector<Override> overrides);
 
+  // Binds this map to a section of the key table (src/input/key_table.hpp): it and the maps
+  // below it then read only keys their sections declare (another read throws std::logic_error:
+  // the loader and the table disagree), and unknown keys are named against the table.
+  void set_key_section(const KeySection* section);
+  const KeySection* key_section() const { return section_; }
+
  private:
   CaseNode child(YAML::Node node, std::string path) const;
   // An unread key of this map that looks like a misspelling of a read one: the error for it
   // (with the nearest known key), or "".
   std::string misspelt_key_error() const;
   std::string key_where(const YAML::Node& key, const std::string& name) const;
+  // The table's entry for `key` of this map (null when the map is bound to no section); throws
+  // std::logic_error for a key the section does not declare.
+  const KeySpec* declared(const std::string& key) const;
+  // Binds a child to the section(s) its key's entry names.
+  void describe(CaseNode& child, const KeySpec* spec) const;
+  // The keys a key of this map may be: the section's for this map's variant (with
+  // `present_unread`, less the ones given but never read: those are not accepted here), or the
+  // keys read so far when the map is bound to no section.
+  std::vector<std::string> known_keys(bool present_unread) const;
 
   YAML::Node node_;
   std::string file_;
@@ -88,6 +106,8 @@ class CaseNode {
   std::shared_ptr<std::set<std::string>> used_;
   std::shared_ptr<const std::vector<Override>> overrides_;
   std::string override_;  // the --set text this node came from; "" when from the file
+  const KeySection* section_ = nullptr;  // the keys of this map
+  const KeySection* items_ = nullptr;    // the keys of this list's (or named map's) maps
 };
 
 // A list index written as a key (`bodies.0.spacing`): the number when `text` is decimal digits

@@ -82,6 +82,28 @@ class CkpdMaterial : public MaterialModel {
   std::optional<double> fracture_energy_, critical_stretch_;
 };
 
+const bool keys_registered = register_key_variant(
+    "material",
+    {"ckpd",
+     "the CKPD model: bonds, triangles and tetrahedra with constants from E and nu",
+     {{"youngs_modulus",
+       ValueKind::number,
+       "Pa",
+       kRequired,
+       "Young's modulus E",
+       {},
+       "1e-3 to 1e16"},
+      {"poisson_ratio", ValueKind::number, "-", kRequired, "Poisson's ratio nu", {}, "(-1, 0.5)"},
+      fracture_energy_key("none (give it or critical_stretch for failure)"),
+      {"critical_stretch",
+       ValueKind::number,
+       "-",
+       "from fracture_energy; none: no failure",
+       "the bond stretch at which a bond fails",
+       {},
+       "> 0"},
+      strain_measure_key()}});
+
 const bool registered = register_material_model(
     "ckpd", [](const CaseNode& m) { return std::make_unique<CkpdMaterial>(m); });
 

@@ -39,6 +39,24 @@ class PmbMaterial : public MaterialModel {
   std::optional<double> critical_stretch_;
 };
 
+const bool keys_registered =
+    register_key_variant("material", {"pmb",
+                                      "the prototype microelastic brittle bond model",
+                                      {{"micromodulus",
+                                        ValueKind::number,
+                                        "N/m^6 (N/m^5 in 2D)",
+                                        kRequired,
+                                        "the micromodulus c",
+                                        {},
+                                        "> 0, at most 1e40"},
+                                       {"critical_stretch",
+                                        ValueKind::number,
+                                        "-",
+                                        "none (no failure)",
+                                        "the bond stretch s0 at which a bond fails",
+                                        {},
+                                        "> 0"}}});
+
 const bool registered = register_material_model(
     "pmb", [](const CaseNode& m) { return std::make_unique<PmbMaterial>(m); });
 

@@ -85,6 +85,40 @@ class StateBasedMaterial : public MaterialModel {
   std::optional<double> fracture_energy_;
 };
 
+const bool keys_registered = register_key_variant(
+    "material", {"state_based",
+                 "the nonlinear ordinary state-based solid: lambda_bar and mu_bar, or E and nu",
+                 {{"youngs_modulus",
+                   ValueKind::number,
+                   "Pa",
+                   "give it and poisson_ratio, or the moduli",
+                   "Young's modulus E (matched at small strain)",
+                   {},
+                   "1e-3 to 1e16"},
+                  {"poisson_ratio",
+                   ValueKind::number,
+                   "-",
+                   "give it and youngs_modulus, or the moduli",
+                   "Poisson's ratio nu",
+                   {},
+                   "(-1, 0.5)"},
+                  {"lambda_bar",
+                   ValueKind::number,
+                   "Pa (N/m in 2D)",
+                   "give it and mu_bar, or E and nu",
+                   "the model's first modulus",
+                   {},
+                   "> -2 mu_bar / dimension"},
+                  {"mu_bar",
+                   ValueKind::number,
+                   "Pa (N/m in 2D)",
+                   "give it and lambda_bar, or E and nu",
+                   "the model's second modulus",
+                   {},
+                   "> 0"},
+                  fracture_energy_key("none (no failure)"),
+                  strain_measure_key()}});
+
 const bool registered = register_material_model(
     "state_based", [](const CaseNode& m) { return std::make_unique<StateBasedMaterial>(m); });
 
