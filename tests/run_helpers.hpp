@@ -33,9 +33,10 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
-inline CommandResult run_ckpd(const std::string& args) {
+// `ckpd args` with environment assignments (`env`: "NAME=value ...", or empty) before it.
+inline CommandResult run_ckpd_with(const std::string& env, const std::string& args) {
   CommandResult r;
-  const std::string cmd = std::string(CKPD_BINARY) + " " + args + " 2>&1";
+  const std::string cmd = env + (env.empty() ? "" : " ") + CKPD_BINARY + " " + args + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return r;
   char buf[4096];
@@ -43,6 +44,10 @@ inline CommandResult run_ckpd(const std::string& args) {
   const int status = pclose(pipe);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+inline CommandResult run_ckpd(const std::string& args) {
+  return run_ckpd_with("", args);
 }
 
 inline nlohmann::json read_json(const std::filesystem::path& path) {
