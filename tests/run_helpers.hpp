@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -48,6 +49,11 @@ inline CommandResult run_ckpd_with(const std::string& env, const std::string& ar
 
 inline CommandResult run_ckpd(const std::string& args) {
   return run_ckpd_with("", args);
+}
+
+inline std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 inline nlohmann::json read_json(const std::filesystem::path& path) {

@@ -11,7 +11,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -26,27 +25,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A 2D strip of 17 x 9 points pulled apart at its ends, 12 steps: a history row every 2 steps,
-// a frame and a checkpoint every 4.
-const char* kCase = R"(# SI units
-materials:
-  steel: {density: 7850, youngs_modulus: 200e9, poisson_ratio: 0.2, fracture_energy: 50}
-bodies:
-  - {name: strip, material: steel, dimension: 2, geometry: {type: box, min: [0, 0], max: [0.016, 0.008]},
-     spacing: 0.001, horizon_ratio: 3.015}
-conditions:
-  - {type: velocity, body: strip, region: {type: box, min: [0, 0], max: [0.002, 0.008]}, value: [-5, 0], components: [x]}
-  - {type: velocity, body: strip, region: {type: box, min: [0.014, 0], max: [0.016, 0.008]}, value: [5, 0], components: [x]}
-time: {steps: 12}
-output: {history_interval: 2, field_interval: 4, checkpoint_interval: 4, fields: [displacement, damage]}
-)";
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+// A 2D strip of 153 points, 12 steps: a history row every 2 steps, a frame and a checkpoint
+// every 4.
+const std::string kStrip = CKPD_SOURCE_DIR "/tests/data/pulled_strip.yaml";
 
 std::size_t occurrences(const std::string& text, const std::string& what) {
   std::size_t n = 0;
@@ -69,7 +50,7 @@ std::size_t indexed_frames(const fs::path& out, const std::string& index) {
   INFO(index);
   REQUIRE(doc != nullptr);
   xmlFreeDoc(doc);
-  const std::string text = slurp(path);
+  const std::string text = read_text(path);
   std::size_t frames = 0;
   while (text.find(ckpd::FieldWriter::frame_name(frames) + ":") != std::string::npos) {
     CHECK_NOTHROW(ckpd::FieldWriter::read_frame(out.string(), frames));
@@ -80,7 +61,7 @@ std::size_t indexed_frames(const fs::path& out, const std::string& index) {
 
 // Every line of a history ends with its newline and has the header's number of columns.
 void require_whole_history(const fs::path& path) {
-  const std::string text = slurp(path);
+  const std::string text = read_text(path);
   REQUIRE(!text.empty());
   CHECK(text.back() == '\n');
   std::istringstream lines(text);
@@ -95,16 +76,15 @@ void require_whole_history(const fs::path& path) {
 TEST_CASE("a disk full at any write never ends a run as complete, and its checkpoint continues it",
           "[output][disk_full]") {
   const fs::path dir = fs::canonical(fresh_dir("disk-full"));
-  const std::string file = write_file(dir / "case.yaml", kCase);
-  const std::string run = "run " + file + " --quiet --threads 1 --out ";
+  const std::string run = "run " + kStrip + " --quiet --threads 1 --out ";
   // The run the disk never stops, counting its writes: the failure points.
   const fs::path whole = dir / "whole";
   const CommandResult counted = run_ckpd_on_full_disk(whole, 0, run + whole.string(), dir / "n");
   INFO(counted.output);
   REQUIRE(counted.exit_code == 0);
-  const long long writes = std::stoll(slurp(dir / "n"));
+  const long long writes = std::stoll(read_text(dir / "n"));
   REQUIRE(writes > 20);
-  const std::string whole_history = slurp(whole / "history.csv");
+  const std::string whole_history = read_text(whole / "history.csv");
   const std::string whole_checkpoint = checkpoint_hash(whole / "checkpoint.h5");
   const std::size_t whole_frames = indexed_frames(whole, "fields.xdmf");
   REQUIRE(whole_frames == 4);
@@ -151,7 +131,7 @@ TEST_CASE("a disk full at any write never ends a run as complete, and its checkp
     INFO(c.output);
     REQUIRE(c.exit_code == 0);
     CHECK(checkpoint_hash(out / "checkpoint.h5") == whole_checkpoint);
-    CHECK(slurp(out / "history.csv") == whole_history);
+    CHECK(read_text(out / "history.csv") == whole_history);
     CHECK(indexed_frames(out, "fields.xdmf") == whole_frames);
     CHECK(indexed_frames(out, "fields_strip.xdmf") == whole_frames);
     ++restarted;
@@ -194,7 +174,7 @@ TEST_CASE("a disk full under ranks that write their files together ends every ra
   INFO(whole.output);
   REQUIRE(whole.exit_code == 0);
   // Each rank counts its own writes (the count file holds the last rank's to end).
-  const long long writes = std::stoll(slurp(dir / "n"));
+  const long long writes = std::stoll(read_text(dir / "n"));
   REQUIRE(writes > 4);
   for (long long k = 1; k <= writes; k += std::max(1LL, writes / 6)) {
     fs::remove_all(out);

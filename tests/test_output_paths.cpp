@@ -12,27 +12,19 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A 2D strip of 11 x 6 points, 2000 steps (long enough that a run that starts is seen to start).
-const char* kCase = R"(# SI units
-materials:
-  steel: {density: 7850, youngs_modulus: 200e9, poisson_ratio: 0.3}
-bodies:
-  - {name: strip, material: steel, dimension: 2, geometry: {type: box, min: [0, 0], max: [0.01, 0.005]},
-     spacing: 0.001, horizon_ratio: 3.015}
-conditions:
-  - {type: initial_velocity, body: strip, value: [1, 0]}
-time: {steps: 2000}
-output: {history_interval: 100, field_interval: 500, checkpoint_interval: 1000, fields: [damage]}
-)";
+// `ckpd run` of the strip of tests/data/pulled_strip.yaml over 2000 steps (long enough that a run
+// that starts is seen to start), a frame every 500.
+const std::string kRun = "run " CKPD_SOURCE_DIR
+                         "/tests/data/pulled_strip.yaml --quiet --set time.steps=2000 --set "
+                         "output.field_interval=500 --set output.checkpoint_interval=1000";
 
-// Runs the case into `out` after `block` made a non-empty folder at `in_the_way` (relative to
-// out): exit 2 naming it, and nothing of the run written.
+// Runs the case into `out` after making a non-empty folder at `in_the_way` (relative to out):
+// exit 2 naming it, and nothing of the run written.
 void require_refused_before_the_first_step(const std::string& in_the_way) {
   const fs::path dir = fresh_dir("blocked");
-  const std::string file = write_file(dir / "case.yaml", kCase);
   const fs::path out = dir / "out";
   fs::create_directories(out / in_the_way / "inside");
-  const CommandResult r = run_ckpd("run " + file + " --quiet --out " + out.string());
+  const CommandResult r = run_ckpd(kRun + " --out " + out.string());
   INFO(r.output);
   CHECK(r.exit_code == 2);
   CHECK(r.output.find((out / in_the_way).string() + ": a folder is where ckpd writes a file") !=

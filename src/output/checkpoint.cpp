@@ -241,6 +241,7 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
         hdf5::write_doubles(group, "rigid_state", packed, alike_rows(sim, kRigidState), 1);
         hash.bytes(packed, sizeof packed);
       }
+      group.close();
     }
     if (sim.contact()) {
       // Evaluation count, dissipation and one row per spring: the pair's four indices (the
@@ -268,6 +269,7 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
         hdf5::write_doubles(group, "spring_index", index.data(), h.rows.size(), 4);
         hdf5::write_vectors(group, "spring", spring);
       }
+      group.close();
     }
     hash.value(shared ? ranks::sum_wrapping(rows_hash) : rows_hash);
     hdf5::write_string_attribute(file, "content_hash", hash.hex());
