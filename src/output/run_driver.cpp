@@ -40,6 +40,8 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
       for (const SceneBody& sb : sim_.whole_scene().bodies) bodies.push_back(sb.body.name);
       if (const std::string why = blocked_output(out, bodies, o.writes_fields()); !why.empty())
         throw std::runtime_error(why);
+      // Summaries of earlier runs in this folder must not pass for this one's.
+      std::filesystem::remove(out + "/summary.json", ec);
       started = true;
       log_.emplace(out + "/run.log", resume_ >= 0);
       for (const std::string& line : options_.log_header) log_->write(line);
@@ -48,8 +50,6 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
                     std::to_string(resume_));
       progress_.set_log([this](const std::string& line) { log_->write(line); });
       history_.emplace(out + "/history.csv", resume_, o.history, sim_.has_far_field(), interval_);
-      // Summaries of earlier runs in this folder must not pass for this one's.
-      std::filesystem::remove(out + "/summary.json", ec);
       if (o.writes_fields()) fields_.emplace(out, o.fields, resume_);
     } catch (const std::runtime_error& e) {
       failure = e.what();
@@ -89,6 +89,7 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
 void RunDriver::abandon_output() {
   // A new run that could not start leaves nothing that passes for its output; a restart's files
   // are replaced only whole, so the run it continues keeps its own.
+  progress_.set_log({});
   log_.reset();
   history_.reset();
   fields_.reset();
