@@ -1,7 +1,10 @@
 // What a restart does to the files of the run it continues: the history keeps only the rows the
 // uninterrupted run writes (not the extra row of a run stopped off its schedule, by SIGTERM or an
 // earlier end), and the XDMF indexes keep listing the kept frames from the first moment on (a
-// restart that is stopped, or whose disk is full, before its next frame leaves them indexed).
+// restart that is stopped, or whose disk is full, before its next frame leaves them indexed); a
+// frame whose content hash does not hold is not kept.
+#include <hdf5.h>
+
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +12,7 @@
 
 #include "full_disk.hpp"
 #include "run_helpers.hpp"
+#include "src/output/field_writer.hpp"
 
 using namespace ckpd::testing;
 namespace fs = std::filesystem;
@@ -100,4 +104,40 @@ TEST_CASE("a restart keeps its kept frames indexed from the start", "[restart][o
       CHECK(frames_listed(out / "fields_strip.xdmf") >= 3);
     }
   }
+}
+
+TEST_CASE("a frame changed after it was written is refused by its content hash, and not kept",
+          "[restart][output]") {
+  const fs::path dir = fs::canonical(fresh_dir("frame-hash"));
+  const fs::path out = dir / "out";
+  REQUIRE(run_ckpd(kRun + " --set time.steps=40 --out " + out.string()).exit_code == 0);
+  // One byte of frame 1's displacement flipped where HDF5 keeps it.
+  {
+    const fs::path frame = out / "fields" / ckpd::FieldWriter::frame_name(1);
+    const hid_t file = H5Fopen(frame.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    REQUIRE(file >= 0);
+    const hid_t set = H5Dopen2(file, "/body_0/displacement", H5P_DEFAULT);
+    REQUIRE(set >= 0);
+    const haddr_t offset = H5Dget_offset(set);
+    H5Dclose(set);
+    H5Fclose(file);
+    REQUIRE(offset != HADDR_UNDEF);
+    std::fstream bytes(frame, std::ios::in | std::ios::out | std::ios::binary);
+    bytes.seekg(static_cast<std::streamoff>(offset) + 8);
+    const char c = static_cast<char>(bytes.get() ^ 0x10);
+    bytes.seekp(static_cast<std::streamoff>(offset) + 8);
+    bytes.put(c);
+  }
+  CHECK_NOTHROW(ckpd::FieldWriter::read_frame(out.string(), 0));
+  CHECK_THROWS_WITH(ckpd::FieldWriter::read_frame(out.string(), 1),
+                    Catch::Contains("the content hash does not match"));
+  // A restart keeps the frames before it and writes on from there.
+  fs::copy_file(out / "checkpoint.h5", dir / "at40.h5");
+  const CommandResult r = run_ckpd(kRun + " --set time.steps=60 --out " + out.string() +
+                                   " --restart " + (dir / "at40.h5").string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(frames_listed(out / "fields.xdmf") == 2);  // step 0 and the restart's step 60
+  CHECK_NOTHROW(ckpd::FieldWriter::read_frame(out.string(), 1));
+  CHECK_FALSE(fs::exists(out / "fields" / ckpd::FieldWriter::frame_name(2)));
 }

@@ -52,14 +52,14 @@ HistoryWriter::HistoryWriter(const std::string& path, long long resume_after_ste
   if (resume_after_step >= 0) {
     std::ifstream in(path);
     const std::string old((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    // Whole lines only (a line without its newline was cut off), in step order.
+    // Whole lines only (a line without its newline was cut off), each step once, in order.
     std::size_t begin = 0, end = old.find('\n');
     if (end != std::string::npos && old.compare(0, end, header) == 0 && end == header.size()) {
       for (begin = end + 1; (end = old.find('\n', begin)) != std::string::npos; begin = end + 1) {
         const std::string line = old.substr(begin, end - begin);
         long long step = 0;
-        if (!row_step(line, step) || step <= last_step_ || step > resume_after_step) break;
-        if (step % std::max(interval, 1LL) != 0) continue;
+        if (!row_step(line, step) || step > resume_after_step) break;
+        if (step <= last_step_ || step % std::max(interval, 1LL) != 0) continue;
         text += line + '\n';
         last_step_ = step;
       }
