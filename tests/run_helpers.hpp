@@ -51,7 +51,7 @@ inline CommandResult run_ckpd(const std::string& args) {
   return run_ckpd_with("", args);
 }
 
-inline std::string read_text(const std::filesystem::path& path) {
+inline std::string file_text(const std::filesystem::path& path) {
   std::ifstream in(path);
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }

@@ -28,7 +28,7 @@ const std::string kRun = "run " CKPD_SOURCE_DIR
 
 // The time steps an XDMF index lists (one Time element each).
 std::size_t frames_listed(const fs::path& xdmf) {
-  const std::string text = read_text(xdmf);
+  const std::string text = file_text(xdmf);
   std::size_t n = 0;
   for (auto at = text.find("<Time "); at != std::string::npos; at = text.find("<Time ", at + 1))
     ++n;
@@ -50,13 +50,13 @@ TEST_CASE("a restart from a run stopped off the row schedule writes the uninterr
                    "output.checkpoint_interval=23 --set time.steps=23" +
                    out + part.string())
               .exit_code == 0);
-  CHECK(read_text(part / "history.csv").find("\n23,") != std::string::npos);
+  CHECK(file_text(part / "history.csv").find("\n23,") != std::string::npos);
   fs::copy_file(part / "checkpoint.h5", dir / "at23.h5");
   const CommandResult r = run_ckpd(kRun + " --set time.steps=60" + out + part.string() +
                                    " --restart " + (dir / "at23.h5").string());
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
-  CHECK(read_text(part / "history.csv") == read_text(dir / "whole" / "history.csv"));
+  CHECK(file_text(part / "history.csv") == file_text(dir / "whole" / "history.csv"));
 }
 
 TEST_CASE("SIGTERM then a restart writes the history of the uninterrupted run",
@@ -76,7 +76,7 @@ TEST_CASE("SIGTERM then a restart writes the history of the uninterrupted run",
   INFO(more.output);
   REQUIRE(more.exit_code == 0);
   REQUIRE(run_ckpd(kRun + steps + " --out " + (dir / "whole").string()).exit_code == 0);
-  CHECK(read_text(out / "history.csv") == read_text(dir / "whole" / "history.csv"));
+  CHECK(file_text(out / "history.csv") == file_text(dir / "whole" / "history.csv"));
 }
 
 TEST_CASE("a restart keeps its kept frames indexed from the start", "[restart][output]") {

@@ -273,7 +273,8 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
     }
     hash.value(shared ? ranks::sum_wrapping(rows_hash) : rows_hash);
     hdf5::write_string_attribute(file, "content_hash", hash.hex());
-    file.close();  // HDF5 writes what it cached here
+    hdf5::flush_file(file, temp);
+    file.close();
   } catch (const std::runtime_error& e) {
     std::remove(temp.c_str());
     throw OutputError(path + ": cannot write the checkpoint: " + e.what() + "; " +

@@ -50,7 +50,8 @@ std::string partial_path(const std::string& path) {
   return path + ".partial";
 }
 
-void replace_file(const std::string& temp, const std::string& path, const std::string& what) {
+void replace_file(const std::string& temp, const std::string& path, const std::string& what,
+                  bool sync_folder) {
   int error = 0;
   const int fd = ::open(temp.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) {
@@ -64,6 +65,7 @@ void replace_file(const std::string& temp, const std::string& path, const std::s
     std::remove(temp.c_str());
     failed(path, what, error, kept_note(path));
   }
+  if (!sync_folder) return;
   // The rename made durable (best effort: some file systems cannot sync a folder).
   const int dir = ::open(folder_of(path).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (dir >= 0) {
@@ -72,8 +74,8 @@ void replace_file(const std::string& temp, const std::string& path, const std::s
   }
 }
 
-void write_file_replacing(const std::string& path, const std::string& text,
-                          const std::string& what) {
+void write_file_replacing(const std::string& path, const std::string& text, const std::string& what,
+                          bool sync_folder) {
   const std::string temp = partial_path(path);
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) failed(path, what, errno, kept_note(path));
@@ -84,7 +86,7 @@ void write_file_replacing(const std::string& path, const std::string& text,
     std::remove(temp.c_str());
     failed(path, what, error, kept_note(path));
   }
-  replace_file(temp, path, what);
+  replace_file(temp, path, what, sync_folder);
 }
 
 AppendFile::AppendFile(const std::string& path, const std::string& what)

@@ -19,13 +19,16 @@ class OutputError : public std::runtime_error {
 // The temporary name a file is written under before it replaces `path`.
 std::string partial_path(const std::string& path);
 
-// Syncs `temp` (complete and closed) to the disk and renames it over `path`; on failure removes
-// `temp` and throws OutputError naming `path` and `what` ("the checkpoint").
-void replace_file(const std::string& temp, const std::string& path, const std::string& what);
+// Syncs `temp` (complete and closed) to the disk (where a full disk may show only now) and
+// renames it over `path`; on failure removes `temp` and throws OutputError naming `path` and
+// `what` ("the checkpoint"). `sync_folder`: the rename made durable too (false: a later
+// replace_file in the same folder does it, one sync for several files).
+void replace_file(const std::string& temp, const std::string& path, const std::string& what,
+                  bool sync_folder = true);
 
 // Writes `text` as the new version of `path` (through partial_path(path), replace_file).
-void write_file_replacing(const std::string& path, const std::string& text,
-                          const std::string& what);
+void write_file_replacing(const std::string& path, const std::string& text, const std::string& what,
+                          bool sync_folder = true);
 
 // An open file that is appended to, each append whole or not at all: an append that fails is cut
 // off again (the file keeps its previous length) and throws OutputError. Appends are synced.

@@ -253,7 +253,8 @@ void FieldWriter::write_frame(const Simulation& sim) {
     const std::uint64_t sum = shared ? ranks::sum_wrapping(rows.value()) : rows.value();
     hdf5::write_string_attribute(file, "content_hash",
                                  frame_hash(sim.time(), sim.step(), names, dimensions, sum));
-    file.close();  // HDF5 writes what it cached here
+    hdf5::flush_file(file, temp_path);
+    file.close();
   } catch (const std::runtime_error& e) {
     std::remove(temp_path.c_str());
     throw OutputError(final_path + ": cannot write the field frame: " + e.what() +
@@ -273,10 +274,11 @@ void FieldWriter::write_frame(const Simulation& sim) {
 }
 
 void FieldWriter::write_indexes() const {
+  // All in one folder: the last rename syncs it for every one.
   const std::vector<std::string> files = body_xdmf_names(bodies_);
   for (std::size_t b = 0; b < bodies_.size(); ++b)
     write_file_replacing(directory_ + "/" + files[b], body_xdmf(frames_, bodies_, b, fields_),
-                         "the body's XDMF index");
+                         "the body's XDMF index", false);
   write_file_replacing(directory_ + "/fields.xdmf", run_xdmf(frames_, bodies_, fields_),
                        "the XDMF index");
 }

@@ -1,9 +1,15 @@
 #include "src/output/hdf5_io.hpp"
 
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
+#include <condition_variable>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <mutex>
 #include <stdexcept>
+#include <thread>
 
 #ifdef CKPD_PARALLEL_HDF5
 #include <mpi.h>
@@ -22,6 +28,7 @@ namespace {
 const bool kNoCloseAtExit = H5dont_atexit() >= 0;
 
 thread_local bool shared_write = false;  // inside a SharedWrite
+std::string shared_path;                 // the file the ranks write together now
 
 // What the system said about the last failed call, when it set errno (a full disk: "No space
 // left on device").
@@ -42,12 +49,59 @@ void fail(const std::string& message) {
   throw std::runtime_error(message);
 }
 
+struct SharedWrite::Watchdog {
+  std::mutex mutex;
+  std::condition_variable finished;
+  bool done = false;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+  std::thread thread;
+};
+
+namespace {
+
+double longest_shared_write = 0;  // seconds, this process's longest so far
+
+double shared_write_limit() {
+  double limit = 300;
+  if (const char* v = std::getenv("CKPD_SHARED_WRITE_TIMEOUT"); v && std::atof(v) > 0)
+    limit = std::atof(v);
+  return std::max(limit, 20 * longest_shared_write);
+}
+
+}  // namespace
+
 SharedWrite::SharedWrite(bool shared) : previous_(shared_write) {
   shared_write = shared_write || shared;
+  if (!shared || previous_) return;
+  watchdog_ = std::make_unique<Watchdog>();
+  Watchdog& w = *watchdog_;
+  const double limit = shared_write_limit();
+  w.thread = std::thread([&w, limit] {
+    std::unique_lock<std::mutex> lock(w.mutex);
+    if (w.finished.wait_for(lock, std::chrono::duration<double>(limit), [&w] { return w.done; }))
+      return;
+    std::cerr << "ckpd: error: rank " << ranks::rank() << ": a file the ranks write together ("
+              << shared_path << ") is not finished after " << limit
+              << " s: a write failed inside parallel HDF5 (a full disk?) and the ranks wait in "
+                 "different collectives; ending every rank (CKPD_SHARED_WRITE_TIMEOUT sets the "
+                 "time allowed)"
+              << std::endl;
+    ranks::abort_all(1);
+  });
 }
 
 SharedWrite::~SharedWrite() {
   shared_write = previous_;
+  if (!watchdog_) return;
+  {
+    const std::lock_guard<std::mutex> lock(watchdog_->mutex);
+    watchdog_->done = true;
+  }
+  watchdog_->finished.notify_one();
+  watchdog_->thread.join();
+  longest_shared_write = std::max(
+      longest_shared_write,
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - watchdog_->start).count());
 }
 
 Handle::Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what)
@@ -62,6 +116,12 @@ void Handle::close() {
   // HDF5 writes a dataset's or file's cached data at its close: a failure there is a failed write.
   const std::string object = what_.rfind("create ", 0) == 0 ? what_.substr(7) : what_;
   if (close_(id) < 0) fail("HDF5: cannot write " + object + system_reason(errno));
+}
+
+void flush_file(hid_t file, const std::string& path) {
+  errno = 0;
+  if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0)
+    fail("HDF5: cannot write " + path + system_reason(errno));
 }
 
 void silence_errors() {
@@ -179,8 +239,36 @@ bool shared_files() {
 #endif
 }
 
+#ifdef CKPD_PARALLEL_HDF5
+namespace {
+
+// A failed MPI-IO call in a shared file ends every rank at once: HDF5 does not always report it
+// on every rank, and a rank it reports it to may leave a collective inside HDF5 (the file's close)
+// that the others then wait in for ever.
+void end_on_file_error(MPI_File*, int* code, ...) {
+  char text[MPI_MAX_ERROR_STRING];
+  int length = 0;
+  MPI_Error_string(*code, text, &length);
+  std::cerr << "ckpd: error: rank " << ranks::rank() << ": " << shared_path << ": cannot write ("
+            << std::string(text, static_cast<std::size_t>(length))
+            << "); ending every rank (a file the ranks write together cannot be finished)"
+            << std::endl;
+  MPI_Abort(MPI_COMM_WORLD, 1);
+}
+
+}  // namespace
+#endif
+
 hid_t create_shared_file(const std::string& path) {
 #ifdef CKPD_PARALLEL_HDF5
+  // Files MPI-IO opens from now on (HDF5's below) get the handler.
+  static MPI_Errhandler handler = [] {
+    MPI_Errhandler h;
+    MPI_File_create_errhandler(end_on_file_error, &h);
+    return h;
+  }();
+  MPI_File_set_errhandler(MPI_FILE_NULL, handler);
+  shared_path = path;
   Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "make a file access list");
   if (H5Pset_fapl_mpio(access, MPI_COMM_WORLD, MPI_INFO_NULL) < 0)
     fail("HDF5: cannot use MPI-IO for " + path);

@@ -6,6 +6,7 @@
 #include <hdf5.h>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -35,6 +36,12 @@ class Handle {
   std::string what_;
 };
 
+// Writes what HDF5 cached of an open file (a collective in a shared file) and throws, or ends
+// every rank, when that fails. Writers call it before the file's close: a rank whose close fails
+// to write goes on into the close's next collective, which the other ranks never join, while a
+// failed flush returns to the caller.
+void flush_file(hid_t file, const std::string& path);
+
 // HDF5's own error printing off: errors come back as exceptions. Also keeps HDF5 from closing
 // at exit what is still open (a file whose close failed would be closed a second time there).
 void silence_errors();
@@ -44,6 +51,11 @@ void silence_errors();
 [[noreturn]] void fail(const std::string& message);
 
 // While one lives, this process writes a file together with the other ranks: fail() ends the job.
+// A watchdog ends it too when the write has not finished in time: parallel HDF5 may report a
+// failed write (a full disk) on one rank only, inside a flush or close, and that rank then waits
+// in a different collective from the others', for ever. The time allowed is
+// CKPD_SHARED_WRITE_TIMEOUT seconds (default 300), or 20 times the longest shared write of the
+// run so far where that is longer.
 class SharedWrite {
  public:
   explicit SharedWrite(bool shared);
@@ -53,6 +65,8 @@ class SharedWrite {
 
  private:
   bool previous_;
+  struct Watchdog;
+  std::unique_ptr<Watchdog> watchdog_;
 };
 
 // A file the ranks of a distributed run write together (parallel HDF5 over MPI-IO): every rank
