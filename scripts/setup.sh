@@ -5,6 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # python3-h5py and python3-matplotlib: scripts/render_damage.py and scripts/max_stretch.py;
+# python3-meshio: the test that reads a run's per-body XDMF series with meshio;
 # libxml2-dev: the XDMF test parses the index as XML; pybind11-dev, python3-dev, python3-numpy,
 # python3-pytest, python3-yaml: the Python module (python/) and its tests; clang,
 # libclang-rt-14-dev (libFuzzer, sanitizers) and libomp-dev: scripts/fuzz.sh; libopenmpi-dev and
@@ -14,7 +15,7 @@ cd "$(dirname "$0")/.."
 # python3-jsonschema: the tests that check the case files against `ckpd schema`.
 packages=(cmake g++ make libeigen3-dev libyaml-cpp-dev libcli11-dev catch2 nlohmann-json3-dev
           libhwy-dev libfcl-dev libassimp-dev libhdf5-dev libhdf5-openmpi-dev libxml2-dev python3 python3-h5py
-          python3-matplotlib
+          python3-matplotlib python3-meshio
           pybind11-dev python3-dev python3-numpy python3-pytest python3-yaml python3-jsonschema
           clang libclang-rt-14-dev libomp-dev libopenmpi-dev openmpi-bin)
 missing=()

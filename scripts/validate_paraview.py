@@ -2,7 +2,8 @@
 """Opens a ckpd run's fields.xdmf with each of ParaView's XDMF readers (XDMFReader, Xdmf3ReaderS,
 Xdmf3ReaderT) and checks what a user would see: one block per body, every body's points as
 cells (Polyvertex) or a wall's triangles, the point arrays named in the XDMF, and the frames'
-times. Optionally renders the damage of one frame to a PNG.
+times; then each body's series (fields_<body>.xdmf) the same way. Optionally renders the damage
+of one frame to a PNG.
 
     pvbatch --force-offscreen-rendering scripts/validate_paraview.py runs/CASE
     xvfb-run -a -s "-screen 0 1600x1000x24 +extension GLX" pvbatch scripts/validate_paraview.py \
@@ -15,6 +16,7 @@ opened by its absolute path and, from inside the run directory, as ./fields.xdmf
 "fields.xdmf" makes ParaView 5.11's Xdmf3 readers abort; docs/PARAVIEW.md).
 """
 import argparse
+import glob
 import os
 import sys
 import xml.etree.ElementTree as ET
@@ -28,12 +30,15 @@ READERS = {"XDMFReader": XDMFReader, "Xdmf3ReaderS": Xdmf3ReaderS, "Xdmf3ReaderT
 
 
 def expected(xdmf):
-    """Per body name: (points, cells, arrays) of the last frame, and the frame times."""
+    """Per body name: (points, cells, arrays) of the last frame, and the frame times. The file is
+    fields.xdmf (each frame a collection of the bodies' grids) or a body's series
+    fields_<body>.xdmf (each frame that body's grid)."""
     root = ET.parse(xdmf).getroot()
     frames = root.find("Domain").find("Grid").findall("Grid")
     times = [float(f.find("Time").get("Value")) for f in frames]
     bodies = {}
-    for grid in frames[-1].findall("Grid"):
+    grids = frames[-1].findall("Grid") or [frames[-1]]
+    for grid in grids:
         topology = grid.find("Topology")
         points = int(grid.find("Geometry").find("DataItem").get("Dimensions").split()[0])
         bodies[grid.get("Name")] = (points, int(topology.get("NumberOfElements")),
@@ -156,6 +161,11 @@ def main():
             check(name, "./fields.xdmf", bodies, times, problems)
     finally:
         os.chdir(here)
+    # Each body's series, by its absolute path.
+    for series in sorted(glob.glob(os.path.join(os.path.dirname(xdmf), "fields_*.xdmf"))):
+        body, body_times = expected(series)
+        for name in READERS:
+            check(name, series, body, body_times, problems)
     if args.screenshot:
         reader = Xdmf3ReaderS(FileName=[xdmf])
         t = args.time if args.time is not None else times[-1]

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -51,6 +52,11 @@ inline CommandResult run_ckpd(const std::string& args) {
   return run_ckpd_command(std::string(CKPD_BINARY) + " " + args);
 }
 
+// `ckpd args` with environment assignments (`env`: "NAME=value ...", or empty) before it.
+inline CommandResult run_ckpd_with(const std::string& env, const std::string& args) {
+  return run_ckpd_command(env + (env.empty() ? "" : " ") + CKPD_BINARY + " " + args);
+}
+
 // run_ckpd under coreutils' `timeout`: a command that hangs is killed after `limit_seconds`
 // (exit status 137); `seconds` is the wall time it took.
 struct TimedResult : CommandResult {
@@ -64,6 +70,11 @@ inline TimedResult run_ckpd_within(int limit_seconds, const std::string& args) {
                        std::string(CKPD_BINARY) + " " + args);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
+}
+
+inline std::string file_text(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 inline nlohmann::json read_json(const std::filesystem::path& path) {

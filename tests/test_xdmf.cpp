@@ -21,23 +21,6 @@ using namespace ckpd::testing;
 
 namespace {
 
-// A 3D block of 3 x 3 x 2 points and a mesh-wall floor of two triangles that translates at
-// 2 m/s along x and turns at 1000 rad/s about z (no contact: they never meet).
-const char* kCase = R"(# SI units
-materials:
-  steel: {density: 7850, youngs_modulus: 200e9, poisson_ratio: 0.25}
-bodies:
-  - {name: block, material: steel, geometry: {type: box, min: [0, 0, 0.01], max: [0.003, 0.003, 0.012]},
-     spacing: 0.001, horizon_ratio: 2.015}
-  - {name: floor, rigid: {motion: prescribed, velocity: [2, 0, 0], angular_velocity: [0, 0, 1000]},
-     mesh_wall: {file: floor.obj}}
-conditions:
-  - {type: initial_velocity, body: block, value: [0, 0, -1]}
-time: {steps: 12}
-output: {field_interval: 4,
-         fields: [displacement, reference_position, point_id, volume, body_id, damage]}
-)";
-
 std::string attribute(xmlNode* node, const char* name) {
   xmlChar* v = xmlGetProp(node, reinterpret_cast<const xmlChar*>(name));
   if (!v) return "";
@@ -113,11 +96,8 @@ Item read_item(xmlNode* item, const std::filesystem::path& xdmf_dir) {
 TEST_CASE("the XDMF is well-formed XML whose grids all have connectivity and resolvable data",
           "[output][xdmf]") {
   const auto dir = fresh_dir("xdmf");
-  // Two triangles in z = 0 around the origin: the wall's pivot (its box centre) is the origin.
-  write_file(dir / "floor.obj",
-             "v -0.004 -0.002 0\nv 0.004 -0.002 0\nv 0.004 0.002 0\nv -0.004 0.002 0\n"
-             "f 1 2 3\nf 1 3 4\n");
-  const std::string file = write_file(dir / "case.yaml", kCase);
+  // A block and a moving mesh-wall floor (the case file says more).
+  const std::string file = CKPD_SOURCE_DIR "/tests/data/block_and_floor/case.yaml";
   const auto out = dir / "out";
   const CommandResult r = run_ckpd("run " + file + " --quiet --out " + out.string());
   INFO(r.output);

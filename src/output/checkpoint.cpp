@@ -11,6 +11,8 @@
 
 #include "src/engine/distribution.hpp"
 #include "src/engine/ranks.hpp"
+#include "src/output/content_hash.hpp"
+#include "src/output/durable_file.hpp"
 #include "src/output/hdf5_io.hpp"
 #include "src/output/output_share.hpp"
 
@@ -27,42 +29,6 @@ constexpr const char* kFormat = "ckpd checkpoint 4";
 constexpr const char* kFormat3 = "ckpd checkpoint 3";
 constexpr std::size_t kRigidState = 16;
 using hdf5::Handle;
-
-// FNV-1a (64 bit) over everything a restart restores, in a fixed order. Each step is a
-// bijection of the running value, so any change of a single byte changes the result; a
-// corrupted file that HDF5 still reads is refused by this, not restored.
-class ContentHash {
- public:
-  void bytes(const void* data, std::size_t size) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < size; ++i) {
-      h_ ^= p[i];
-      h_ *= 1099511628211ull;
-    }
-  }
-  template <class T>
-  void value(const T& v) {
-    bytes(&v, sizeof v);
-  }
-  template <class T>
-  void vector(const std::vector<T>& v) {
-    value(v.size());
-    bytes(v.data(), v.size() * sizeof(T));
-  }
-  void text(const std::string& s) {
-    value(s.size());
-    bytes(s.data(), s.size());
-  }
-  std::uint64_t value() const { return h_; }
-  std::string hex() const {
-    std::ostringstream s;
-    s << std::hex << std::setw(16) << std::setfill('0') << h_;
-    return s.str();
-  }
-
- private:
-  std::uint64_t h_ = 1469598103934665603ull;
-};
 
 void hash_counters(ContentHash& h, double dt, const Simulation::Counters& c, bool adaptive) {
   h.value(dt);
@@ -206,8 +172,9 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
   // rank holds the same counters, rigid states and contact books, so all write the same
   // attributes. Rank 0 renames the file.
   const bool shared = shared_output(sim);
-  const std::string temp = path + ".partial";
-  {
+  const std::string temp = partial_path(path);
+  const hdf5::SharedWrite collective(shared);  // a failure ends every rank
+  try {
     Handle file(shared ? hdf5::create_shared_file(temp)
                        : H5Fcreate(temp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
                 H5Fclose, "create " + temp);
@@ -274,6 +241,7 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
         hdf5::write_doubles(group, "rigid_state", packed, alike_rows(sim, kRigidState), 1);
         hash.bytes(packed, sizeof packed);
       }
+      group.close();
     }
     if (sim.contact()) {
       // Evaluation count, dissipation and one row per spring: the pair's four indices (the
@@ -301,16 +269,25 @@ void write_checkpoint(const std::string& path, const Simulation& sim) {
         hdf5::write_doubles(group, "spring_index", index.data(), h.rows.size(), 4);
         hdf5::write_vectors(group, "spring", spring);
       }
+      group.close();
     }
     hash.value(shared ? ranks::sum_wrapping(rows_hash) : rows_hash);
     hdf5::write_string_attribute(file, "content_hash", hash.hex());
-    if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0)
-      throw std::runtime_error("HDF5: cannot flush " + temp);
+    hdf5::flush_file(file, temp);
+    file.close();
+  } catch (const std::runtime_error& e) {
+    std::remove(temp.c_str());
+    throw OutputError(path + ": cannot write the checkpoint: " + e.what() + "; " +
+                      (std::filesystem::exists(path) ? "the previous checkpoint is unchanged"
+                                                     : "there is no checkpoint"));
   }
   if (shared && !ranks::root()) return;
-  std::error_code ec;
-  std::filesystem::rename(temp, path, ec);
-  if (ec) throw std::runtime_error(path + ": cannot write the checkpoint: " + ec.message());
+  try {
+    replace_file(temp, path, "the checkpoint");
+  } catch (const OutputError& e) {
+    if (shared) hdf5::fail(e.what());  // the other ranks went on: end every rank
+    throw;
+  }
 }
 
 void read_checkpoint(const std::string& path, Simulation& sim) {

@@ -10,7 +10,10 @@
 
 #include "src/engine/contact_coupling.hpp"
 #include "src/engine/ranks.hpp"
+#include "src/output/content_hash.hpp"
+#include "src/output/durable_file.hpp"
 #include "src/output/hdf5_io.hpp"
+#include "src/output/output_paths.hpp"
 #include "src/output/output_share.hpp"
 
 namespace ckpd {
@@ -18,29 +21,6 @@ namespace ckpd {
 namespace {
 
 using hdf5::Handle;
-
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 std::size_t dataset_rows(hid_t group, const std::string& name) {
   Handle set(H5Dopen2(group, name.c_str(), H5P_DEFAULT), H5Dclose, "open " + name);
@@ -50,17 +30,10 @@ std::size_t dataset_rows(hid_t group, const std::string& name) {
   return static_cast<std::size_t>(dims[0]);
 }
 
-// The fields a mesh wall's surface carries (its vertices move rigidly; the rest are point
-// fields of deformable bodies).
-bool wall_field(const std::string& name) {
-  return name == "position" || name == "reference_position" || name == "displacement" ||
-         name == "body_id" || name == "point_id";
-}
-
 // A mesh wall's surface at the wall's current pose: x = centre + R (X - c0). Every rank of a
 // shared file makes the same calls; rank 0 writes the rows (alike_rows).
 void write_wall_group(hid_t group, const Simulation& sim, const SceneBody& sb, std::size_t b,
-                      const std::vector<std::string>& fields) {
+                      const std::vector<std::string>& fields, hdf5::RowsHash& hash) {
   const TriangleMesh& surface = *sb.wall_surface;
   const MeshWall::Pose pose = sb.wall->pose(point_set(sb));
   const Vec3& c0 = sb.wall->carriers().centre;
@@ -72,23 +45,23 @@ void write_wall_group(hid_t group, const Simulation& sim, const SceneBody& sb, s
   cells.reserve(3 * surface.triangle.size());
   for (const auto& t : surface.triangle)
     for (std::uint32_t v : t) cells.push_back(static_cast<std::int32_t>(v));
-  hdf5::write_int32(group, "triangles", cells, share(surface.triangle.size()), 3);
+  hdf5::write_int32(group, "triangles", cells, share(surface.triangle.size()), 3, &hash);
   for (const std::string& f : fields) {
     if (f == "position") {
-      hdf5::write_vectors(group, f, x, share(n));
+      hdf5::write_vectors(group, f, x, share(n), &hash);
     } else if (f == "reference_position") {
-      hdf5::write_vectors(group, f, surface.vertex, share(n));
+      hdf5::write_vectors(group, f, surface.vertex, share(n), &hash);
     } else if (f == "displacement") {
       std::vector<Vec3> u(n);
       for (std::size_t v = 0; v < n; ++v) u[v] = x[v] - surface.vertex[v];
-      hdf5::write_vectors(group, f, u, share(n));
+      hdf5::write_vectors(group, f, u, share(n), &hash);
     } else if (f == "body_id") {
       hdf5::write_int32(group, f, std::vector<std::int32_t>(n, static_cast<std::int32_t>(b)),
-                        share(n), 1);
+                        share(n), 1, &hash);
     } else if (f == "point_id") {
       std::vector<std::int32_t> id(n);
       for (std::size_t v = 0; v < n; ++v) id[v] = static_cast<std::int32_t>(v);
-      hdf5::write_int32(group, f, id, share(n), 1);
+      hdf5::write_int32(group, f, id, share(n), 1, &hash);
     }
   }
 }
@@ -96,13 +69,14 @@ void write_wall_group(hid_t group, const Simulation& sim, const SceneBody& sb, s
 // A point body's fields: every row of the whole body, or in a shared file this rank's rows
 // (output_share.hpp), each field taken from the body the rows are in.
 void write_point_group(hid_t group, const Simulation& sim, std::size_t b,
-                       const std::vector<std::string>& fields, std::vector<double>& buffer) {
+                       const std::vector<std::string>& fields, std::vector<double>& buffer,
+                       hdf5::RowsHash& hash) {
   const BodyShare share = body_share(sim, b);
   // The Polyvertex connectivity: point k is cell k.
   std::vector<std::int32_t> ids(share.local.size());
   for (std::size_t k = 0; k < ids.size(); ++k)
     ids[k] = static_cast<std::int32_t>(share.whole_index(k));
-  hdf5::write_int32(group, "connectivity", ids, share.points, 1);
+  hdf5::write_int32(group, "connectivity", ids, share.points, 1, &hash);
   const FieldSource source{*share.body, b, share.whole_of_local,
                            share.whole_of_local ? &sim.whole_scene().bodies[b].body : nullptr};
   std::vector<double> scratch;
@@ -113,11 +87,26 @@ void write_point_group(hid_t group, const Simulation& sim, std::size_t b,
     const std::vector<double>& rows = rows_of(share, buffer, columns, scratch);
     if (spec.number == FieldNumber::int32) {
       const std::vector<std::int32_t> values(rows.begin(), rows.end());
-      hdf5::write_int32(group, f, values, share.points, columns);
+      hdf5::write_int32(group, f, values, share.points, columns, &hash);
     } else {
-      hdf5::write_doubles(group, f, rows.data(), share.points, columns);
+      hdf5::write_doubles(group, f, rows.data(), share.points, columns, &hash);
     }
   }
+}
+
+// A frame's hash: its attributes (time, step, each body's name and dimension) and the sum of its
+// rows' hashes (hdf5::RowsHash).
+std::string frame_hash(double time, long long step, const std::vector<std::string>& names,
+                       const std::vector<long long>& dimensions, std::uint64_t rows) {
+  ContentHash h;
+  h.value(time);
+  h.value(step);
+  for (std::size_t b = 0; b < names.size(); ++b) {
+    h.text(names[b]);
+    h.value(dimensions[b]);
+  }
+  h.value(rows);
+  return h.hex();
 }
 
 }  // namespace
@@ -151,38 +140,60 @@ FieldWriter::FieldWriter(std::string directory, const std::vector<std::string>& 
   for (const auto& entry : std::filesystem::directory_iterator(directory_ + "/fields"))
     if (entry.path().extension() == ".h5") existing.push_back(entry.path());
   std::sort(existing.begin(), existing.end());
+  // A restart keeps the frames of the interrupted run up to its checkpoint, in order, as long as
+  // each reads back whole; frames of any other run in this folder must not be mixed with this
+  // run's.
   for (const auto& path : existing) {
-    // A restart keeps the frames of the interrupted run up to its checkpoint, in order; frames
-    // of any other run in this folder must not be mixed with this run's.
-    bool keep = false;
-    if (resume_after_step >= 0 && path.filename() == frame_name(frames_.size())) {
-      try {
-        hdf5::Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose,
-                          "open " + path.string());
-        const long long step = hdf5::read_int64_attribute(file, "step");
-        if (step <= resume_after_step) {
-          Frame frame{"fields/" + path.filename().string(),
-                      hdf5::read_double_attribute(file, "time"),
-                      {},
-                      {}};
-          for (long long b = 0;; ++b) {
-            const std::string group = "body_" + std::to_string(b);
-            if (H5Lexists(file, group.c_str(), H5P_DEFAULT) <= 0) break;
-            hdf5::Handle g(H5Gopen2(file, group.c_str(), H5P_DEFAULT), H5Gclose, "open " + group);
-            frame.points.push_back(dataset_rows(g, "position"));
-            frame.triangles.push_back(
-                H5Lexists(g, "triangles", H5P_DEFAULT) > 0 ? dataset_rows(g, "triangles") : 0);
-          }
-          frames_.push_back(std::move(frame));
-          keep = true;
-        }
-      } catch (const std::runtime_error&) {
-        keep = false;  // unreadable: written after the checkpoint, or damaged; rewritten below
-      }
+    if (resume_after_step < 0 || path.filename() != frame_name(frames_.size())) break;
+    try {
+      long long step = 0;
+      std::vector<std::string> names;
+      FrameRecord frame = read_frame(directory_, frames_.size(), &step, &names);
+      if (step > resume_after_step) break;
+      frames_.push_back(std::move(frame));
+      bodies_ = std::move(names);
+    } catch (const std::runtime_error&) {
+      break;  // unreadable: written after the checkpoint, or damaged; rewritten
     }
-    if (!keep) std::filesystem::remove(path, ec);
   }
-  std::filesystem::remove(directory_ + "/fields.xdmf", ec);
+  // The indexes list the kept frames before any other frame goes: at no moment do they list a
+  // frame that is not there, nor lose one that is.
+  if (!frames_.empty())
+    write_indexes();
+  else
+    remove_field_indexes(directory_);
+  for (std::size_t k = frames_.size(); k < existing.size(); ++k)
+    std::filesystem::remove(existing[k], ec);
+}
+
+FrameRecord FieldWriter::read_frame(const std::string& directory, std::size_t index,
+                                    long long* step, std::vector<std::string>* bodies) {
+  const std::string name = "fields/" + frame_name(index);
+  const std::string path = directory + "/" + name;
+  hdf5::Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "open " + path);
+  FrameRecord frame{name, hdf5::read_double_attribute(file, "time"), {}, {}};
+  const long long at = hdf5::read_int64_attribute(file, "step");
+  std::vector<std::string> names;
+  std::vector<long long> dimensions;
+  for (long long b = 0;; ++b) {
+    const std::string group = "body_" + std::to_string(b);
+    if (H5Lexists(file, group.c_str(), H5P_DEFAULT) <= 0) break;
+    hdf5::Handle g(H5Gopen2(file, group.c_str(), H5P_DEFAULT), H5Gclose, "open " + group);
+    names.push_back(hdf5::read_string_attribute(g, "name"));
+    dimensions.push_back(hdf5::read_int64_attribute(g, "dimension"));
+    frame.points.push_back(dataset_rows(g, "position"));
+    frame.triangles.push_back(
+        H5Lexists(g, "triangles", H5P_DEFAULT) > 0 ? dataset_rows(g, "triangles") : 0);
+  }
+  if (H5Aexists(file, "content_hash") > 0 &&
+      hdf5::read_string_attribute(file, "content_hash") !=
+          frame_hash(frame.time, at, names, dimensions, hdf5::file_rows_hash(file)))
+    throw std::runtime_error(path +
+                             ": the content hash does not match the stored one (the frame "
+                             "was changed or corrupted after it was written)");
+  if (step) *step = at;
+  if (bodies) *bodies = std::move(names);
+  return frame;
 }
 
 std::string FieldWriter::frame_name(std::size_t index) {
@@ -199,18 +210,27 @@ bool FieldWriter::needs_energy() const {
 void FieldWriter::write_frame(const Simulation& sim) {
   const std::string name = "fields/" + frame_name(frames_.size());
   const std::string final_path = directory_ + "/" + name;
-  const std::string temp_path = final_path + ".partial";
-  Frame frame{name, sim.time(), {}, {}};
+  const std::string temp_path = partial_path(final_path);
+  FrameRecord frame{name, sim.time(), {}, {}};
   // A shared file: every rank writes its points into it; rank 0 renames it and writes the XDMF.
   const bool shared = shared_output(sim);
   const bool root = !shared || ranks::root();
-  {
+  const hdf5::SharedWrite collective(shared);  // a failure ends every rank
+  hdf5::silence_errors();
+  const auto& bodies = output_scene(sim).bodies;
+  std::vector<std::string> names;
+  std::vector<long long> dimensions;
+  for (const SceneBody& sb : bodies) {
+    names.push_back(sb.body.name);
+    dimensions.push_back(sb.body.dimension);
+  }
+  try {
     Handle file(shared ? hdf5::create_shared_file(temp_path)
                        : H5Fcreate(temp_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT),
                 H5Fclose, "create " + temp_path);
     hdf5::write_double_attribute(file, "time", sim.time());
     hdf5::write_int64_attribute(file, "step", sim.step());
-    const auto& bodies = output_scene(sim).bodies;
+    hdf5::RowsHash rows;
     std::vector<double> buffer;
     for (std::size_t b = 0; b < bodies.size(); ++b) {
       const SceneBody& sb = bodies[b];
@@ -220,82 +240,47 @@ void FieldWriter::write_frame(const Simulation& sim) {
       hdf5::write_string_attribute(group, "name", sb.body.name);
       hdf5::write_int64_attribute(group, "dimension", sb.body.dimension);
       if (sb.wall && sb.wall_surface) {
-        write_wall_group(group, sim, sb, b, fields_);
+        write_wall_group(group, sim, sb, b, fields_, rows);
         frame.points.push_back(sb.wall_surface->vertex.size());
         frame.triangles.push_back(sb.wall_surface->triangle.size());
       } else {
-        write_point_group(group, sim, b, fields_, buffer);
+        write_point_group(group, sim, b, fields_, buffer, rows);
         frame.points.push_back(sim.whole_scene().bodies[b].body.size());
         frame.triangles.push_back(0);
       }
+      group.close();
     }
-    if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0)
-      throw std::runtime_error("HDF5: cannot flush " + temp_path);
+    const std::uint64_t sum = shared ? ranks::sum_wrapping(rows.value()) : rows.value();
+    hdf5::write_string_attribute(file, "content_hash",
+                                 frame_hash(sim.time(), sim.step(), names, dimensions, sum));
+    hdf5::flush_file(file, temp_path);
+    file.close();
+  } catch (const std::runtime_error& e) {
+    std::remove(temp_path.c_str());
+    throw OutputError(final_path + ": cannot write the field frame: " + e.what() +
+                      "; the frames before it are complete and indexed");
   }
   if (root) {
-    std::error_code ec;
-    std::filesystem::rename(temp_path, final_path, ec);
-    if (ec) throw std::runtime_error(final_path + ": cannot write: " + ec.message());
+    try {
+      replace_file(temp_path, final_path, "the field frame");
+    } catch (const OutputError& e) {
+      if (shared) hdf5::fail(e.what());  // the other ranks went on: end every rank
+      throw;
+    }
   }
   frames_.push_back(std::move(frame));
-  if (root) write_xdmf(sim);
+  bodies_ = names;
+  if (root) write_indexes();
 }
 
-void FieldWriter::write_xdmf(const Simulation& sim) const {
-  const std::string path = directory_ + "/fields.xdmf";
-  const std::string temp = path + ".partial";
-  {
-    std::ofstream x(temp);
-    x << std::setprecision(17);
-    x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n <Domain>\n"
-      << "  <Grid Name=\"run\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    const auto& bodies = sim.whole_scene().bodies;
-    for (const Frame& frame : frames_) {
-      x << "   <Grid Name=\"" << frame.file << "\" GridType=\"Collection\" "
-        << "CollectionType=\"Spatial\">\n    <Time Value=\"" << frame.time << "\"/>\n";
-      for (std::size_t b = 0; b < bodies.size(); ++b) {
-        const std::size_t n = frame.points[b];
-        const std::size_t triangles = frame.triangles[b];
-        const std::string h5 = frame.file + ":/body_" + std::to_string(b) + "/";
-        auto item = [&](const std::string& dataset, std::size_t rows, int columns,
-                        FieldNumber number) {
-          const bool integer = number == FieldNumber::int32;
-          x << "      <DataItem Dimensions=\"" << rows;
-          if (columns > 1) x << " " << columns;
-          x << "\" NumberType=\"" << (integer ? "Int" : "Float") << "\" Precision=\""
-            << (integer ? 4 : 8) << "\" Format=\"HDF\">" << h5 << dataset << "</DataItem>\n";
-        };
-        x << "    <Grid Name=\"" << xml_escape(bodies[b].body.name) << "\" GridType=\"Uniform\">\n";
-        if (triangles > 0) {
-          x << "     <Topology TopologyType=\"Triangle\" NumberOfElements=\"" << triangles
-            << "\" NodesPerElement=\"3\">\n";
-          item("triangles", triangles, 3, FieldNumber::int32);
-        } else {
-          x << "     <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n
-            << "\" NodesPerElement=\"1\">\n";
-          item("connectivity", n, 1, FieldNumber::int32);
-        }
-        x << "     </Topology>\n     <Geometry GeometryType=\"XYZ\">\n";
-        item("position", n, 3, FieldNumber::float64);
-        x << "     </Geometry>\n";
-        for (const std::string& f : fields_) {
-          if (f == "position" || (triangles > 0 && !wall_field(f))) continue;
-          const FieldSpec& spec = *find_field(f);
-          x << "     <Attribute Name=\"" << f << "\" AttributeType=\""
-            << xdmf_attribute_type(spec.components) << "\" Center=\"Node\">\n";
-          item(f, n, spec.components, spec.number);
-          x << "     </Attribute>\n";
-        }
-        x << "    </Grid>\n";
-      }
-      x << "   </Grid>\n";
-    }
-    x << "  </Grid>\n </Domain>\n</Xdmf>\n";
-    if (!x) throw std::runtime_error(temp + ": cannot write");
-  }
-  std::error_code ec;
-  std::filesystem::rename(temp, path, ec);
-  if (ec) throw std::runtime_error(path + ": cannot write: " + ec.message());
+void FieldWriter::write_indexes() const {
+  // All in one folder: the last rename syncs it for every one.
+  const std::vector<std::string> files = body_xdmf_names(bodies_);
+  for (std::size_t b = 0; b < bodies_.size(); ++b)
+    write_file_replacing(directory_ + "/" + files[b], body_xdmf(frames_, bodies_, b, fields_),
+                         "the body's XDMF index", false);
+  write_file_replacing(directory_ + "/fields.xdmf", run_xdmf(frames_, bodies_, fields_),
+                       "the XDMF index");
 }
 
 }  // namespace ckpd

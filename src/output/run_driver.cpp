@@ -11,6 +11,7 @@
 #include "src/engine/ranks.hpp"
 #include "src/output/checkpoint.hpp"
 #include "src/output/history_quantities.hpp"
+#include "src/output/output_paths.hpp"
 #include "src/output/output_share.hpp"
 
 namespace ckpd {
@@ -28,24 +29,31 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
   interval_ = o.history_interval > 0 ? o.history_interval : std::max<long long>(1, total_ / 200);
   std::string failure;
   if (writes_) {
+    const std::string& out = options_.out;
+    bool started = false;  // this constructor wrote into the folder
     try {
-      const std::string& out = options_.out;
       std::error_code ec;
       std::filesystem::create_directories(out, ec);
       if (ec || !std::filesystem::is_directory(out))
         throw std::runtime_error(out + ": cannot create the output directory");
+      std::vector<std::string> bodies;
+      for (const SceneBody& sb : sim_.whole_scene().bodies) bodies.push_back(sb.body.name);
+      if (const std::string why = blocked_output(out, bodies, o.writes_fields()); !why.empty())
+        throw std::runtime_error(why);
+      // Summaries of earlier runs in this folder must not pass for this one's.
+      std::filesystem::remove(out + "/summary.json", ec);
+      started = true;
       log_.emplace(out + "/run.log", resume_ >= 0);
       for (const std::string& line : options_.log_header) log_->write(line);
       if (resume_ >= 0)
         log_->write("restarted from " + options_.restarted_from + " at step " +
                     std::to_string(resume_));
       progress_.set_log([this](const std::string& line) { log_->write(line); });
-      history_.emplace(out + "/history.csv", resume_, o.history, sim_.has_far_field());
-      // Summaries of earlier runs in this folder must not pass for this one's.
-      std::filesystem::remove(out + "/summary.json", ec);
+      history_.emplace(out + "/history.csv", resume_, o.history, sim_.has_far_field(), interval_);
       if (o.writes_fields()) fields_.emplace(out, o.fields, resume_);
     } catch (const std::runtime_error& e) {
       failure = e.what();
+      if (started) abandon_output();
     }
   }
   // Only rank 0 writes: the other ranks learn of its failure here, before the gather below would
@@ -63,12 +71,29 @@ RunDriver::RunDriver(Simulation& sim, RunDriverOptions options)
   // A distributed run: rank 0's whole scene holds every rank's state for the first row (with
   // fragments) and frame (when rank 0 writes it alone).
   if ((has_history_ && row_gathers_) || (fields_ && !shared_)) gather();
-  if (resume_ < 0 && has_history_) write_row();
-  if (resume_ < 0) row_step_ = sim_.step();
-  if (fields_ && (resume_ < 0 || fields_->frames() == 0)) write_frame();
+  try {
+    if (resume_ < 0 && has_history_) write_row();
+    if (resume_ < 0) row_step_ = sim_.step();
+    if (fields_ && (resume_ < 0 || fields_->frames() == 0)) write_frame();
+  } catch (const std::runtime_error&) {
+    // Only rank 0 can fail here (in a shared file a failure ends every rank): the caller's
+    // agreement on the set-up tells the others.
+    if (writes_) abandon_output();
+    throw;
+  }
   progress_.energy_evaluated(sim_);
   // Model breakdown (inverted tetrahedra/triangles) is reported once, when first seen.
   report_inversion();
+}
+
+void RunDriver::abandon_output() {
+  // A new run that could not start leaves nothing that passes for its output; a restart's files
+  // are replaced only whole, so the run it continues keeps its own.
+  progress_.set_log({});
+  log_.reset();
+  history_.reset();
+  fields_.reset();
+  if (resume_ < 0) remove_started_output(options_.out);
 }
 
 double RunDriver::seconds() const {
@@ -149,9 +174,10 @@ void RunDriver::write_frame() {
 
 void RunDriver::write_checkpoint() {
   // On every rank: the gather of a distributed run, or with shared files the write, is a
-  // collective; otherwise rank 0 writes.
+  // collective; otherwise rank 0 writes. The history's rows so far reach the disk with it.
   if (checkpoint_step_ == sim_.step()) return;
   checkpoint_step_ = sim_.step();
+  if (history_) history_->sync();
   if (shared_) {
     ckpd::write_checkpoint(checkpoint_path(), sim_);
     return;
@@ -189,7 +215,6 @@ void RunDriver::stop(const std::string& status, const std::string& message) {
   gather();
   if (refresh && has_history_) write_row();
   row_step_ = sim_.step();
-  if (writes_) write_json(options_.out + "/summary.json", summary(status, message));
   if (status == "completed") {
     std::ostringstream line;
     line << "completed " << sim_.step() << " steps to t = " << sim_.time() << " s in " << seconds()
@@ -199,6 +224,8 @@ void RunDriver::stop(const std::string& status, const std::string& message) {
   } else {
     log("stopped (" + status + "): " + message);
   }
+  // The summary last: the run's files are complete when it is there.
+  if (writes_) write_json(options_.out + "/summary.json", summary(status, message));
 }
 
 }  // namespace ckpd

@@ -36,9 +36,13 @@ struct RunDriverOptions {
 
 class RunDriver {
  public:
-  // Creates the folder, starts (or, after a restart, continues) history.csv and the field
+  // Creates the folder, checks that every file the run writes can go where it goes
+  // (output_paths.hpp), starts (or, after a restart, continues) history.csv and the field
   // frames, removes an earlier summary.json and writes the initial row and frame. Throws
-  // std::runtime_error naming a path that cannot be written.
+  // std::runtime_error naming a path that cannot be written; a new run then leaves no file in
+  // the folder. A write that fails later (a full disk) throws OutputError from step(),
+  // write_checkpoint() or stop(): the file it was writing keeps its previous version, and the
+  // run must end with a failure (no summary is written for it).
   RunDriver(Simulation& sim, RunDriverOptions options);
 
   // The run's steps: fixed, or with an adaptive step the current estimate
@@ -69,6 +73,7 @@ class RunDriver {
   // once per step: a checkpoint after a row or frame of the same step does not gather again.
   void gather();
   void report_inversion();
+  void abandon_output();  // a failed start: what the set-up wrote removed
   void write_frame();
   void write_row();  // the history row of this step (every rank takes part)
 

@@ -2,14 +2,20 @@
 
 #include <ctime>
 #include <sstream>
-#include <stdexcept>
 
 namespace ckpd {
 
-RunLog::RunLog(const std::string& path, bool append)
-    : out_(path, append ? std::ios::app : std::ios::trunc), path_(path) {
-  if (!out_) throw std::runtime_error(path + ": cannot write the run log");
+namespace {
+
+AppendFile open_log(const std::string& path, bool append) {
+  // A new run's log replaces the previous run's whole.
+  if (!append) write_file_replacing(path, "", "the run log");
+  return AppendFile(path, "the run log");
 }
+
+}  // namespace
+
+RunLog::RunLog(const std::string& path, bool append) : out_(open_log(path, append)) {}
 
 void RunLog::write(const std::string& text) {
   const std::time_t now = std::time(nullptr);
@@ -18,8 +24,9 @@ void RunLog::write(const std::string& text) {
   char stamp[32];
   std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%SZ", &utc);
   std::istringstream lines(text);
-  for (std::string line; std::getline(lines, line);) out_ << stamp << "  " << line << '\n';
-  out_.flush();
+  std::string stamped;
+  for (std::string line; std::getline(lines, line);) stamped += stamp + ("  " + line) + '\n';
+  out_.append(stamped);
 }
 
 }  // namespace ckpd

@@ -1,9 +1,11 @@
 #pragma once
 // DIR/run.log: what a run printed and more, each line with its wall-clock time: the set-up
-// lines, warnings, a progress line every 10 s and the final line. Flushed per line, so a killed
-// run's log ends where the run did. A restart appends to the log of the run it continues.
-#include <fstream>
+// lines, warnings, a progress line every 10 s and the final line. Written per line, so a killed
+// run's log ends where the run did; a line that cannot be written (a full disk) is cut off again
+// and throws OutputError (durable_file.hpp). A restart appends to the log of the run it continues.
 #include <string>
+
+#include "src/output/durable_file.hpp"
 
 namespace ckpd {
 
@@ -15,8 +17,7 @@ class RunLog {
   void write(const std::string& text);
 
  private:
-  std::ofstream out_;
-  std::string path_;
+  AppendFile out_;
 };
 
 }  // namespace ckpd

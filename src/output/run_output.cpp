@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <iomanip>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -18,51 +20,68 @@
 
 namespace ckpd {
 
+namespace {
+
+// The step a history row starts with; false for a line that does not start with a whole number
+// and a comma.
+bool row_step(const std::string& line, long long& step) {
+  const auto comma = line.find(',');
+  if (comma == 0 || comma == std::string::npos) return false;
+  std::size_t used = 0;
+  try {
+    step = std::stoll(line.substr(0, comma), &used);
+  } catch (const std::exception&) {
+    return false;
+  }
+  return used == comma;
+}
+
+}  // namespace
+
 HistoryWriter::HistoryWriter(const std::string& path, long long resume_after_step,
-                             std::vector<HistoryQuantity> chosen, bool far_field)
-    : path_(path), chosen_(std::move(chosen)), far_field_(far_field) {
+                             std::vector<HistoryQuantity> chosen, bool far_field,
+                             long long interval)
+    : chosen_(std::move(chosen)), far_field_(far_field) {
   std::string header =
       "step,time,kinetic,strain,contact,external_work,dissipated,contact_damping,"
       "contact_friction,balance_error,broken_bonds,max_damage,inverted";
   for (const HistoryQuantity& q : chosen_)
     for (const std::string& column : history_columns(q)) header += "," + column;
   if (far_field_) header += ",exact_fraction";
-  std::vector<std::string> kept;
+  std::string text = header + '\n';
   if (resume_after_step >= 0) {
     std::ifstream in(path);
-    std::string line;
-    if (std::getline(in, line) && line == header) {
-      while (std::getline(in, line)) {
-        const auto comma = line.find(',');
-        if (comma == std::string::npos) break;  // a cut-off last line
-        const long long step = std::stoll(line.substr(0, comma));
-        if (step <= resume_after_step) {
-          kept.push_back(line);
-          last_step_ = step;
-        }
+    const std::string old((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // Whole lines only (a line without its newline was cut off), each step once, in order.
+    std::size_t begin = 0, end = old.find('\n');
+    if (end != std::string::npos && old.compare(0, end, header) == 0 && end == header.size()) {
+      for (begin = end + 1; (end = old.find('\n', begin)) != std::string::npos; begin = end + 1) {
+        const std::string line = old.substr(begin, end - begin);
+        long long step = 0;
+        if (!row_step(line, step) || step > resume_after_step) break;
+        if (step <= last_step_ || step % std::max(interval, 1LL) != 0) continue;
+        text += line + '\n';
+        last_step_ = step;
       }
     }
   }
-  out_.open(path, std::ios::trunc);
-  if (!out_) throw std::runtime_error(path + ": cannot write the history file");
-  out_ << header << '\n';
-  for (const std::string& line : kept) out_ << line << '\n';
-  out_.flush();
+  write_file_replacing(path, text, "the history");
+  out_ = AppendFile(path, "the history");
 }
 
 void HistoryWriter::write_row(const Simulation& sim, const std::vector<double>& chosen) {
   if (sim.step() == last_step_) return;
-  last_step_ = sim.step();
   const Energies e = sim.energies();
-  out_ << std::setprecision(10) << sim.step() << ',' << sim.time() << ',' << e.kinetic << ','
-       << e.strain << ',' << e.contact << ',' << e.external_work << ',' << e.dissipated << ','
-       << e.contact_damping << ',' << e.contact_friction << ',' << e.balance_error << ','
-       << sim.broken_bonds() << ',' << sim.max_damage() << ',' << sim.inverted();
-  for (double v : chosen) out_ << ',' << v;
-  if (far_field_) out_ << ',' << sim.exact_fraction();
-  out_ << '\n';
-  out_.flush();
-  if (!out_) throw std::runtime_error(path_ + ": writing the history failed");
+  std::ostringstream row;
+  row << std::setprecision(10) << sim.step() << ',' << sim.time() << ',' << e.kinetic << ','
+      << e.strain << ',' << e.contact << ',' << e.external_work << ',' << e.dissipated << ','
+      << e.contact_damping << ',' << e.contact_friction << ',' << e.balance_error << ','
+      << sim.broken_bonds() << ',' << sim.max_damage() << ',' << sim.inverted();
+  for (double v : chosen) row << ',' << v;
+  if (far_field_) row << ',' << sim.exact_fraction();
+  row << '\n';
+  out_.append(row.str());
+  last_step_ = sim.step();
 }
 
 double peak_rss_mb() {
@@ -213,9 +232,7 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
 }
 
 void write_json(const std::string& path, const nlohmann::ordered_json& json) {
-  std::ofstream out(path);
-  out << json.dump(2) << '\n';
-  if (!out) throw std::runtime_error(path + ": cannot write");
+  write_file_replacing(path, json.dump(2) + '\n', "the summary");
 }
 
 }  // namespace ckpd
