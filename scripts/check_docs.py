@@ -36,11 +36,15 @@ def slug(heading):
 
 
 def anchors(path):
+    """The page's heading anchors and its explicit <a id="..."> anchors."""
     out, seen, in_code = set(), {}, False
     for line in path.read_text(encoding="utf-8").splitlines():
         if line.lstrip().startswith("```"):
             in_code = not in_code
-        if in_code or not line.startswith("#"):
+        if in_code:
+            continue
+        out.update(re.findall(r'<a id="([^"]+)"', line))
+        if not line.startswith("#"):
             continue
         base = slug(line.lstrip("#"))
         n = seen.get(base, 0)
