@@ -25,6 +25,8 @@ class Run:
     """
 
     def __init__(self, path: Union[str, "os.PathLike[str]"]) -> None:
+        """Reads the run folder `path` (FileNotFoundError when there is none); open_run(path)
+        is the same."""
         self.path: str = os.fspath(path)
         if not os.path.isdir(self.path):
             raise FileNotFoundError(f"{self.path}: no such run folder")

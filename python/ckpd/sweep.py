@@ -62,6 +62,8 @@ class SweepTable:
 
     def __init__(self, path: str, header: List[str], rows: List[Dict[str, Cell]],
                  exit_status: int = 0) -> None:
+        """A table of `rows` (dicts of typed cells) with columns `header`, as the CSV file
+        `path` holds it; SweepTable.read(path) reads one."""
         self.path = path
         self.header = header
         self.rows = rows

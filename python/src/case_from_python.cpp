@@ -23,7 +23,9 @@ std::string child(const std::string& path, const std::string& key) {
   return path.empty() ? key : path + "." + key;
 }
 
-std::string place(const std::string& path) { return path.empty() ? "(top level)" : path; }
+std::string place(const std::string& path) {
+  return path.empty() ? "(top level)" : path;
+}
 
 // The containers (dicts, lists, tuples, numpy values) between the top level and the value
 // being converted, with their paths: a value met again on its own path is a cycle.
@@ -53,7 +55,8 @@ YAML::Node convert(const py::handle& value, const std::string& path, Ancestors& 
   const bool dict = py::isinstance<py::dict>(value);
   const bool sequence = py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value);
   // numpy arrays and scalars: an array is not a list, a numpy bool is not a bool.
-  const bool numpy = !dict && !sequence && py::hasattr(value, "tolist") && py::hasattr(value, "dtype");
+  const bool numpy =
+      !dict && !sequence && py::hasattr(value, "tolist") && py::hasattr(value, "dtype");
   if (!dict && !sequence && !numpy)
     throw CaseError("case dict: " + place(path) +
                     ": expected a dict, list, string, number, bool or None, got " +

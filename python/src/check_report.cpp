@@ -27,7 +27,9 @@ double seconds_since(clock::time_point t) {
   return std::chrono::duration<double>(clock::now() - t).count();
 }
 
-py::list xyz(const Vec3& v) { return py::cast(std::vector<double>{v.x(), v.y(), v.z()}); }
+py::list xyz(const Vec3& v) {
+  return py::cast(std::vector<double>{v.x(), v.y(), v.z()});
+}
 
 py::object mesh_dict(const std::optional<MeshInfo>& m, const Body& b) {
   if (!m) return py::none();
@@ -149,8 +151,9 @@ py::dict check_report(const py::handle& source, const py::handle& overrides, lon
   timing["seconds_per_step"] =
       timed > 0 ? py::object(py::float_(per_step)) : py::object(py::none());
   timing["projected_seconds"] =
-      timed > 0 ? py::object(py::float_(setup + per_step * static_cast<double>(sim.planned_steps())))
-                : py::object(py::none());
+      timed > 0
+          ? py::object(py::float_(setup + per_step * static_cast<double>(sim.planned_steps())))
+          : py::object(py::none());
   report["timing"] = timing;
   return report;
 }

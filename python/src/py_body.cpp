@@ -50,17 +50,18 @@ py::array body_vector(const PyBody& b) {
 }
 
 void bind_body_class(py::module_& m) {
-  py::class_<PyBody>(m, "Body",
-                     "One body of a Simulation (Simulation.bodies[name]): its sizes and numpy "
-                     "arrays of its state.\n\n"
-                     "Units are SI. A 2D body is a slice of unit thickness: its volumes are areas "
-                     "(m^2), its masses and energies are per metre of thickness (kg/m, J/m) and its "
-                     "densities per unit area (N/m^2, J/m^2) where a 3D body's are per unit volume. "
-                     "The arrays named views share the engine's memory: they change as the "
-                     "simulation steps (copy them to keep a value) and stay valid while the "
-                     "Simulation lives; read them between calls, not from another thread while a "
-                     "call computes. Every member raises BusyError while another thread's call "
-                     "uses the simulation.")
+  py::class_<PyBody>(
+      m, "Body",
+      "One body of a Simulation (Simulation.bodies[name]): its sizes and numpy "
+      "arrays of its state.\n\n"
+      "Units are SI. A 2D body is a slice of unit thickness: its volumes are areas "
+      "(m^2), its masses and energies are per metre of thickness (kg/m, J/m) and its "
+      "densities per unit area (N/m^2, J/m^2) where a 3D body's are per unit volume. "
+      "The arrays named views share the engine's memory: they change as the "
+      "simulation steps (copy them to keep a value) and stay valid while the "
+      "Simulation lives; read them between calls, not from another thread while a "
+      "call computes. Every member raises BusyError while another thread's call "
+      "uses the simulation.")
       .def_property_readonly(
           "name", [](const PyBody& b) { return b.body("ckpd.Body.name").name; },
           "The body's name in the case (str).")
@@ -84,9 +85,8 @@ void bind_body_class(py::module_& m) {
             return sb.rigid.has_value() || sb.wall != nullptr;
           },
           "True for a rigid body or a mesh wall (no bonds; its motion is its own).")
-      .def_property_readonly(
-          "reference_positions", &body_vector<&Body::reference_position>,
-          "(n, dim) reference positions, m (float64, read-only view).")
+      .def_property_readonly("reference_positions", &body_vector<&Body::reference_position>,
+                             "(n, dim) reference positions, m (float64, read-only view).")
       .def_property_readonly(
           "positions",
           [](const PyBody& b) {

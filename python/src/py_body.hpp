@@ -33,7 +33,9 @@ struct PyCondition {
     sim->check_free(what);
     return sim->condition(index);
   }
-  int dimension() const { return sim->scene().bodies[sim->conditions()[index].body].body.dimension; }
+  int dimension() const {
+    return sim->scene().bodies[sim->conditions()[index].body].body.dimension;
+  }
 };
 
 void bind_body(pybind11::module_& m);

@@ -39,7 +39,9 @@ std::string path_text(const py::handle& path) {
   return py::module_::import("os").attr("fspath")(path).cast<std::string>();
 }
 
-std::string float_text(double x) { return py::repr(py::float_(x)).cast<std::string>(); }
+std::string float_text(double x) {
+  return py::repr(py::float_(x)).cast<std::string>();
+}
 
 }  // namespace
 
@@ -162,7 +164,8 @@ void PySimulation::finish_by_user(const py::handle& status, const std::string& m
   if (ended_)
     throw EndedError("Simulation.finish: the run has already ended" + at +
                      "; its summary.json stays as written");
-  const std::string s = status.is_none() ? std::string("stopped") : py::str(status).cast<std::string>();
+  const std::string s =
+      status.is_none() ? std::string("stopped") : py::str(status).cast<std::string>();
   const long long total = driver_->total_steps();
   if (s == "completed" && sim_->step() < total)
     throw py::value_error("Simulation.finish: status 'completed' needs the run at its last step (" +
@@ -363,15 +366,14 @@ std::string simulation_repr(const PySimulation& s) {
     return text + ", busy in another thread>";
   }
   return text + ", step " + std::to_string(s.sim().step()) + " of " +
-         std::to_string(s.sim().planned_steps()) + ", t = " + float_text(s.sim().time()) +
-         " s, " + s.status() + ">";
+         std::to_string(s.sim().planned_steps()) + ", t = " + float_text(s.sim().time()) + " s, " +
+         s.status() + ">";
 }
 
 }  // namespace
 
 void bind_simulation(py::module_& m) {
-  py::register_exception<BusyError>(m, "BusyError", PyExc_RuntimeError)
-      .attr("__doc__") =
+  py::register_exception<BusyError>(m, "BusyError", PyExc_RuntimeError).attr("__doc__") =
       "Raised by a call on a Simulation (or one of its Body and Condition objects) while "
       "another thread's call uses it: one call at a time per Simulation. A RuntimeError.";
   py::class_<PySimulation> c(

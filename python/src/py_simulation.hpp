@@ -104,8 +104,8 @@ class PySimulation {
   std::string case_name_;
   int threads_ = 0;
   std::string status_ = "ready";
-  bool ended_ = false;             // summary.json written: no more steps
-  double kinetic_after_step_ = 0;  // as the last step (or the set-up) left it
+  bool ended_ = false;               // summary.json written: no more steps
+  double kinetic_after_step_ = 0;    // as the last step (or the set-up) left it
   const char* busy_call_ = nullptr;  // the call holding the simulation, if any
   std::thread::id busy_thread_;      // and its thread
 };
