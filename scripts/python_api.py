@@ -43,7 +43,11 @@ def members(cls):
 
 
 def render_class(name, cls):
-    lines = [f"### ckpd.{name}{signature(cls.__init__)}", "", doc(cls), ""]
+    # Classes without a constructor (Body, Condition) come from a Simulation.
+    made = signature(cls.__init__)
+    if made == "(*args, **kwargs)":
+        made = ""
+    lines = [f"### ckpd.{name}{made}", "", doc(cls), ""]
     for kind, member_name, member in members(cls):
         if kind == "method":
             drop = not isinstance(vars(cls)[member_name], classmethod)
