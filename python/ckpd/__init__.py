@@ -4,6 +4,9 @@
     sim = ckpd.Simulation("cases/mode1_2d.yaml", overrides={"time.end": 1e-4}, out="runs/m1")
     sim.run(callback=lambda s: print(s.time, s.energies["kinetic"]), every=100)
     run = ckpd.open_run("runs/m1")
+
+Units are SI throughout (2D bodies: per metre of thickness). help(ckpd.Simulation) lists what a
+simulation offers; the package has type stubs (mypy, editors).
 """
 import os as _os
 
@@ -13,6 +16,7 @@ _os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 
 from ._ckpd import (  # noqa: E402
     Body,
+    BusyError,
     CaseError,
     CheckpointError,
     Condition,
@@ -20,19 +24,22 @@ from ._ckpd import (  # noqa: E402
     Simulation,
     SweepError,
     TunnellingError,
+    __version__,
     check_case,
 )
 from .results import Run, open_run  # noqa: E402
 
 # Named as users import them (ckpd.CaseError, not ckpd._ckpd.CaseError) in reprs and tracebacks.
-for _type in (Body, CaseError, CheckpointError, Condition, InstabilityError, Simulation,
+for _type in (Body, BusyError, CaseError, CheckpointError, Condition, InstabilityError, Simulation,
               SweepError, TunnellingError):
     _type.__module__ = "ckpd"
 del _type
+check_case.__module__ = "ckpd"
 from .sweep import SweepTable, run_cases, run_sweep  # noqa: E402
 
 __all__ = [
     "Body",
+    "BusyError",
     "CaseError",
     "CheckpointError",
     "Condition",
@@ -42,6 +49,7 @@ __all__ = [
     "SweepError",
     "SweepTable",
     "TunnellingError",
+    "__version__",
     "check_case",
     "open_run",
     "run_cases",

@@ -1,8 +1,11 @@
 """Reading a run's output folder (history.csv, summary.json, fields/frame_*.h5) into numpy."""
+from __future__ import annotations
+
 import csv
 import glob
 import json
 import os
+from typing import Any, Dict, List, Optional, Union
 
 import numpy as np
 
@@ -10,29 +13,33 @@ import numpy as np
 class Run:
     """The results in one output folder of `ckpd run` or of a Simulation with `out=`.
 
-    history: dict column -> array (step, time, kinetic, strain, contact, external_work,
-        dissipated, balance_error, broken_bonds, max_damage, inverted)
-    summary: the summary.json object (None while the run has not ended)
-    times, steps: of the field frames, in order
-    bodies: body names as in the frames (else the summary)
-    field(body, name): that field in every frame, stacked: (frames, points[, dim])
-    frame(k): {body: {field: array}} of frame k
+    path: the folder (str).
+    history: dict column -> array, one entry per history row: step, time (s), kinetic,
+        strain, contact, external_work, dissipated (J; J/m in 2D), balance_error, broken_bonds,
+        max_damage, inverted, and the other columns the case's history has.
+    summary: the summary.json object (a dict; None while the run has not ended).
+    frame_files: the field frames' files, in order.
+    times (s), steps: of the field frames, in order (numpy arrays).
+    bodies: body names as in the frames (else the summary).
+    Fields are in SI units as the frames hold them (docs: the output's field list).
     """
 
-    def __init__(self, path):
-        self.path = os.fspath(path)
+    def __init__(self, path: Union[str, "os.PathLike[str]"]) -> None:
+        """Reads the run folder `path` (FileNotFoundError when there is none); open_run(path)
+        is the same."""
+        self.path: str = os.fspath(path)
         if not os.path.isdir(self.path):
             raise FileNotFoundError(f"{self.path}: no such run folder")
-        self.history = self._read_history()
+        self.history: Dict[str, np.ndarray] = self._read_history()
         summary = os.path.join(self.path, "summary.json")
-        self.summary = None
+        self.summary: Optional[Dict[str, Any]] = None
         if os.path.exists(summary):
             with open(summary) as f:
                 self.summary = json.load(f)
-        self.frame_files = sorted(glob.glob(os.path.join(self.path, "fields", "frame_*.h5")))
-        self.times = np.empty(len(self.frame_files))
-        self.steps = np.empty(len(self.frame_files), dtype=np.int64)
-        self._groups = {}  # body name -> group name in the frames
+        self.frame_files: List[str] = sorted(glob.glob(os.path.join(self.path, "fields", "frame_*.h5")))
+        self.times: np.ndarray = np.empty(len(self.frame_files))
+        self.steps: np.ndarray = np.empty(len(self.frame_files), dtype=np.int64)
+        self._groups: Dict[str, str] = {}  # body name -> group name in the frames
         if self.frame_files:
             import h5py
 
@@ -46,6 +53,7 @@ class Run:
                             if isinstance(body, bytes):
                                 body = body.decode()
                             self._groups[str(body)] = group
+        self.bodies: List[str]
         if self._groups:
             self.bodies = list(self._groups)
         elif self.summary:
@@ -53,7 +61,7 @@ class Run:
         else:
             self.bodies = []
 
-    def _read_history(self):
+    def _read_history(self) -> Dict[str, np.ndarray]:
         path = os.path.join(self.path, "history.csv")
         if not os.path.exists(path):
             return {}
@@ -69,20 +77,21 @@ class Run:
             out[name] = np.array(values, dtype=np.int64 if integer else float)
         return out
 
-    def fields(self, body):
+    def fields(self, body: str) -> List[str]:
         """The field names stored for `body` (in the first frame)."""
         import h5py
 
         with h5py.File(self.frame_files[0], "r") as f:
             return list(f[self._group(body)])
 
-    def _group(self, body):
+    def _group(self, body: str) -> str:
         if body not in self._groups:
             raise KeyError(f"{self.path}: no body {body!r} in the field frames ({', '.join(self._groups)})")
         return self._groups[body]
 
-    def field(self, body, name):
-        """`name` of `body` in every frame, as one array (frames, points[, dim])."""
+    def field(self, body: str, name: str) -> Union[np.ndarray, List[np.ndarray]]:
+        """`name` of `body` in every frame, as one array (frames, points[, dim]); a list of
+        per-frame arrays when the point count differs between frames."""
         import h5py
 
         if not self.frame_files:
@@ -99,8 +108,8 @@ class Run:
         except ValueError:  # point counts differ between frames
             return arrays
 
-    def frame(self, k):
-        """Frame k: {body: {field: array}}."""
+    def frame(self, k: int) -> Dict[str, Dict[str, np.ndarray]]:
+        """Frame k (from 0, in time order): {body: {field: array}}."""
         import h5py
 
         out = {}
@@ -109,11 +118,11 @@ class Run:
                 out[body] = {name: f[group][name][...] for name in f[group]}
         return out
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         status = self.summary["status"] if self.summary else "no summary"
         return f"<ckpd.Run {self.path}: {len(self.history.get('step', []))} history rows, {len(self.frame_files)} frames, {status}>"
 
 
-def open_run(path):
-    """Reads the output folder of a run (see Run)."""
+def open_run(path: Union[str, "os.PathLike[str]"]) -> Run:
+    """Reads the output folder of a run (see Run); FileNotFoundError when there is none."""
     return Run(path)

@@ -24,8 +24,12 @@ struct ResolvedCase {
 // `source`: str or os.PathLike (a case file) or dict. Throws CaseError.
 ResolvedCase resolve_case(const pybind11::handle& source, const pybind11::handle& overrides);
 
+// The deepest nesting of dicts and lists a case dict may have (a case nests a few levels).
+inline constexpr std::size_t kMaxDictDepth = 500;
+
 // A Python value (dict, list, tuple, str, bool, int, float, None, numpy scalars and arrays) as
-// a YAML node; `path` names it in the CaseError for anything else.
+// a YAML node; `path` names it in the CaseError for anything else, for a container that
+// contains itself (directly or further down) and for nesting deeper than kMaxDictDepth.
 YAML::Node to_yaml(const pybind11::handle& value, const std::string& path);
 
 // `overrides` (None, a dict or a list of "key=value" strings) as `--set` strings.

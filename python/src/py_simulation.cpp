@@ -1,16 +1,15 @@
 #include "python/src/py_simulation.hpp"
 
 #include <omp.h>
-#include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
 #include <chrono>
 #include <cmath>
 
-#include "bodies/damage.hpp"
-#include "bodies/fragments.hpp"
 #include "python/src/case_from_python.hpp"
+#include "python/src/py_body.hpp"
 #include "src/case/case_loader.hpp"
+#include "src/cli/cli_options.hpp"
 #include "src/output/checkpoint.hpp"
 
 namespace py = pybind11;
@@ -18,34 +17,6 @@ namespace py = pybind11;
 namespace ckpd::python {
 
 namespace {
-
-static_assert(sizeof(Vec3) == 3 * sizeof(double), "numpy views need Vec3 to be 3 packed doubles");
-
-// An (n, dimension) view of per-point vectors (2D bodies: x and y of the stored 3-vectors),
-// kept alive by `base`.
-py::array vector_view(std::vector<Vec3>& v, int dimension, const py::handle& base, bool writable) {
-  py::array a(py::dtype::of<double>(),
-              {static_cast<py::ssize_t>(v.size()), static_cast<py::ssize_t>(dimension)},
-              {static_cast<py::ssize_t>(sizeof(Vec3)), static_cast<py::ssize_t>(sizeof(double))},
-              v.empty() ? nullptr : v.data()->data(), base);
-  if (!writable) a.attr("setflags")(py::arg("write") = false);
-  return a;
-}
-
-py::array scalar_view(std::vector<double>& v, const py::handle& base) {
-  py::array a(py::dtype::of<double>(), {static_cast<py::ssize_t>(v.size())},
-              {static_cast<py::ssize_t>(sizeof(double))}, v.data(), base);
-  a.attr("setflags")(py::arg("write") = false);
-  return a;
-}
-
-template <class T>
-py::array read_only_copy(const std::vector<T>& v) {
-  py::array_t<T> a(static_cast<py::ssize_t>(v.size()));
-  std::copy(v.begin(), v.end(), a.mutable_data());
-  a.attr("setflags")(py::arg("write") = false);
-  return a;
-}
 
 py::dict energies_dict(const Energies& e) {
   py::dict d;
@@ -62,42 +33,34 @@ py::object json_to_python(const nlohmann::ordered_json& j) {
   return py::module_::import("json").attr("loads")(j.dump());
 }
 
-// One body of a simulation, for Python: views into its state.
-struct PyBody {
-  py::object owner;  // the Python Simulation: keeps the scene (and every view) alive
-  PySimulation* sim;
-  std::size_t index;
-  SceneBody& scene_body() const { return sim->scene().bodies[index]; }
-  Body& body() const { return scene_body().body; }
-};
-
-// One condition of the case.
-struct PyCondition {
-  py::object owner;
-  PySimulation* sim;
-  std::size_t index;
-  Condition& condition() const { return sim->condition(index); }
-  int dimension() const {
-    return sim->scene().bodies[sim->conditions()[index].body].body.dimension;
-  }
-};
-
 // None or "" -> "", a str or os.PathLike -> its text.
 std::string path_text(const py::handle& path) {
   if (path.is_none()) return "";
   return py::module_::import("os").attr("fspath")(path).cast<std::string>();
 }
 
+std::string float_text(double x) {
+  return py::repr(py::float_(x)).cast<std::string>();
+}
+
 }  // namespace
+
+int checked_threads(int threads, const char* name) {
+  if (threads < 0 || threads > kMaxThreads)
+    throw py::value_error(std::string(name) + ": expected 0 (all cores) to " +
+                          std::to_string(kMaxThreads) + " OpenMP threads, got " +
+                          std::to_string(threads));
+  return threads;
+}
 
 PySimulation::PySimulation(const py::handle& case_source, const py::handle& overrides,
                            const py::handle& out_path, const py::handle& restart_path, int threads,
                            bool progress)
-    : threads_(threads) {
+    : threads_(checked_threads(threads, "threads")) {
   const std::string out = path_text(out_path), restart = path_text(restart_path);
   const auto start = std::chrono::steady_clock::now();
-  if (threads < 0) throw py::value_error("threads: expected a positive number (0: all cores)");
   ResolvedCase resolved = resolve_case(case_source, overrides);
+  case_name_ = resolved.name;
   if (auto list = resolved.root["conditions"]; list && list.IsSequence()) {
     for (const auto& c : list) {
       ConditionRef ref;
@@ -135,6 +98,31 @@ PySimulation::PySimulation(const py::handle& case_source, const py::handle& over
   kinetic_after_step_ = sim_->energies().kinetic;
 }
 
+PySimulation::Busy::Busy(PySimulation& s, const char* call, bool exclusive)
+    : s_(s), outer_(s.busy_call_ == nullptr) {
+  if (outer_) {
+    s.busy_call_ = call;
+    s.busy_thread_ = std::this_thread::get_id();
+    return;
+  }
+  s.check_free(call);
+  if (exclusive)
+    throw std::runtime_error(std::string(call) + ": called from inside " + s.busy_call_ +
+                             " (a callback); return False from the callback to stop the run, or "
+                             "step once run() has returned");
+}
+
+PySimulation::Busy::~Busy() {
+  if (outer_) s_.busy_call_ = nullptr;
+}
+
+void PySimulation::check_free(const char* what) const {
+  if (busy_call_ != nullptr && busy_thread_ != std::this_thread::get_id())
+    throw BusyError(std::string(what) + ": the simulation is busy: " + busy_call_ +
+                    " is running in another thread (one call at a time per Simulation: wait for "
+                    "that call to return, e.g. join its thread)");
+}
+
 void PySimulation::book_velocity_writes() {
   const double kinetic = sim_->energies().kinetic;
   if (kinetic == kinetic_after_step_) return;
@@ -164,19 +152,45 @@ long long PySimulation::step_at(double until) const {
   return static_cast<long long>(std::ceil(until / sim_->step_choice().dt - 1e-9));
 }
 
-void PySimulation::finish(const std::string& status, const std::string& message) {
-  driver_->stop(status, message);
+void PySimulation::end(const std::string& status, const std::string& message) {
+  ended_ = true;
   status_ = status;
+  driver_->stop(status, message);
+}
+
+void PySimulation::finish_by_user(const py::handle& status, const std::string& message) {
+  const std::string at = " (status '" + status_ + "' at step " + std::to_string(sim_->step()) + ")";
+  if (status.is_none() && ended_) return;
+  if (ended_)
+    throw EndedError("Simulation.finish: the run has already ended" + at +
+                     "; its summary.json stays as written");
+  const std::string s =
+      status.is_none() ? std::string("stopped") : py::str(status).cast<std::string>();
+  const long long total = driver_->total_steps();
+  if (s == "completed" && sim_->step() < total)
+    throw py::value_error("Simulation.finish: status 'completed' needs the run at its last step (" +
+                          std::to_string(total) + "); it is at step " +
+                          std::to_string(sim_->step()) +
+                          ": 'stopped' (the default) ends it here, run() goes on to the end");
+  if (s != "stopped" && s != "failed" && s != "completed")
+    throw py::value_error("Simulation.finish: status '" + s +
+                          "': expected 'stopped' or 'failed' ('completed' once the run is at its "
+                          "last step; 'unstable', 'tunnelling' and 'interrupted' are set by the "
+                          "run itself)");
+  end(s, message);
 }
 
 long long PySimulation::run_to(long long target, const py::object& callback, long long every,
                                const py::object& self) {
-  if (ended_) throw std::runtime_error("the run has ended (" + status_ + "); nothing more to step");
+  if (ended_)
+    throw EndedError("the run has ended (status '" + status_ + "' at step " +
+                     std::to_string(sim_->step()) +
+                     "); a finished Simulation steps no further: make a new one (restart= "
+                     "continues from a checkpoint)");
   const long long total = driver_->total_steps();
   if (target > total)
     throw py::value_error("the case ends at step " + std::to_string(total) + " (t = " +
-                          py::repr(py::float_(static_cast<double>(total) * sim_->step_choice().dt))
-                              .cast<std::string>() +
+                          float_text(static_cast<double>(total) * sim_->step_choice().dt) +
                           " s); to go further, set a later time.end or more time.steps");
   if (every < 1) throw py::value_error("every: expected a positive number of steps");
   const long long first = sim_->step();
@@ -204,274 +218,260 @@ long long PySimulation::run_to(long long target, const py::object& callback, lon
       }
       if (!callback.is_none() && sim_->step() % every == 0) {
         const py::object r = callback(self);
+        if (ended_) return sim_->step() - first;  // the callback called finish()
         if (!r.is_none() && !py::bool_(r)) {
-          finish("stopped", "stopped by the callback at step " + std::to_string(sim_->step()));
+          end("stopped", "stopped by the callback at step " + std::to_string(sim_->step()));
           return sim_->step() - first;
         }
       }
     }
   } catch (py::error_already_set& e) {
-    if (e.matches(PyExc_KeyboardInterrupt)) {
-      driver_->write_checkpoint();
-      finish("interrupted", "interrupted at step " + std::to_string(sim_->step()));
-    } else {
-      finish("failed",
-             "the callback raised at step " + std::to_string(sim_->step()) + ": " + e.what());
+    if (!ended_) {
+      if (e.matches(PyExc_KeyboardInterrupt)) {
+        driver_->write_checkpoint();
+        end("interrupted", "interrupted at step " + std::to_string(sim_->step()));
+      } else {
+        end("failed",
+            "the callback raised at step " + std::to_string(sim_->step()) + ": " + e.what());
+      }
     }
     throw;
   } catch (const TunnellingError& e) {
-    ended_ = true;
-    finish("tunnelling", e.what());
+    end("tunnelling", e.what());
     throw;
   } catch (const InstabilityError& e) {
-    ended_ = true;
-    finish("unstable", e.what());
+    end("unstable", e.what());
     throw;
   }
-  if (sim_->step() >= total && sim_->step() > first) finish("completed", "");
+  if (sim_->step() >= total && sim_->step() > first) end("completed", "");
   return sim_->step() - first;
 }
 
-void bind_simulation(py::module_& m) {
-  py::class_<PyBody>(m, "Body", "One body of a Simulation: numpy views of its state.")
-      .def_property_readonly("name", [](const PyBody& b) { return b.body().name; })
-      .def_property_readonly("dimension", [](const PyBody& b) { return b.body().dimension; })
-      .def_property_readonly("size", [](const PyBody& b) { return b.body().size(); })
-      .def("__len__", [](const PyBody& b) { return b.body().size(); })
-      .def_property_readonly("spacing", [](const PyBody& b) { return b.scene_body().spacing; })
-      .def_property_readonly("horizon", [](const PyBody& b) { return b.body().horizon; })
-      .def_property_readonly("rigid",
-                             [](const PyBody& b) {
-                               return b.scene_body().rigid.has_value() ||
-                                      b.scene_body().wall != nullptr;
-                             })
+namespace {
+
+// The members that read the state: each raises BusyError while another thread's call computes.
+void bind_state(py::class_<PySimulation>& c) {
+  c.def_property_readonly(
+       "time",
+       [](const PySimulation& s) {
+         s.check_free("Simulation.time");
+         return s.sim().time();
+       },
+       "The simulated time, s (float): step_number x dt.")
       .def_property_readonly(
-          "reference_positions",
-          [](const PyBody& b) {
-            return vector_view(b.body().reference_position, b.body().dimension, b.owner, false);
+          "dt",
+          [](const PySimulation& s) {
+            s.check_free("Simulation.dt");
+            return s.sim().step_choice().dt;
           },
-          "(n, dim) reference positions, m (read-only view)")
+          "The time step, s (float): the case's time.dt, else time.safety x the stable step.")
       .def_property_readonly(
-          "positions",
-          [](const PyBody& b) {
-            const Body& body = b.body();
-            py::array_t<double> a(
-                {static_cast<py::ssize_t>(body.size()), static_cast<py::ssize_t>(body.dimension)});
-            auto r = a.mutable_unchecked<2>();
-            for (std::size_t i = 0; i < body.size(); ++i) {
-              const Vec3 x = body.current_position(i);
-              for (int c = 0; c < body.dimension; ++c) r(i, c) = x[c];
-            }
-            a.attr("setflags")(py::arg("write") = false);
-            return a;
+          "step_number",
+          [](const PySimulation& s) {
+            s.check_free("Simulation.step_number");
+            return s.sim().step();
           },
-          "(n, dim) current positions, m: a new array (reference + displacement; the engine "
-          "stores no positions to view)")
+          "The steps done so far (int; after a restart, counted from the start of the run).")
       .def_property_readonly(
-          "displacements",
-          [](const PyBody& b) {
-            return vector_view(b.body().displacement, b.body().dimension, b.owner, false);
+          "planned_steps",
+          [](const PySimulation& s) {
+            s.check_free("Simulation.planned_steps");
+            return s.sim().planned_steps();
           },
-          "(n, dim) displacements, m (read-only view)")
+          "The steps the case plans (int): time.steps, or time.end / dt rounded up.")
       .def_property_readonly(
-          "velocities",
-          [](const PyBody& b) {
-            return vector_view(b.body().velocity, b.body().dimension, b.owner,
-                               !b.scene_body().rigid && !b.scene_body().wall);
+          "end_time",
+          [](const PySimulation& s) {
+            s.check_free("Simulation.end_time");
+            return static_cast<double>(s.sim().planned_steps()) * s.sim().step_choice().dt;
           },
-          "(n, dim) velocities, m/s: a writable view for steering (read-only for rigid "
-          "bodies, whose motion is their own); prescribed components are overwritten by their "
-          "conditions in the next step")
+          "The time the case ends at, s (float): planned_steps x dt.")
       .def_property_readonly(
-          "accelerations",
-          [](const PyBody& b) {
-            return vector_view(b.body().acceleration, b.body().dimension, b.owner, false);
+          "status", &PySimulation::status,
+          "'ready' (no step yet), 'running' (stepped, not ended), or how the run ended, as its "
+          "summary.json says: 'completed', 'stopped' (the callback returned False, or "
+          "finish()), 'failed' (the callback raised, or finish('failed')), 'interrupted' "
+          "(Ctrl-C), 'unstable' or 'tunnelling'. Readable at any time, from any thread.")
+      .def_property_readonly(
+          "out",
+          [](const PySimulation& s) -> py::object {
+            s.check_free("Simulation.out");
+            if (s.driver().out().empty()) return py::none();
+            return py::str(s.driver().out());
           },
-          "(n, dim) accelerations, m/s^2 (read-only view)")
+          "The output folder (str), or None when the simulation writes no files.")
       .def_property_readonly(
-          "force_density",
-          [](const PyBody& b) {
-            return vector_view(b.body().force_density, b.body().dimension, b.owner, false);
+          "energies",
+          [](const PySimulation& s) {
+            s.check_free("Simulation.energies");
+            return energies_dict(s.sim().energies());
           },
-          "(n, dim) total force density (internal + external + contact), N/m^3 (N/m^2 in 2D) "
-          "(read-only view)")
+          "The energies as of the last evaluation, J (J/m in 2D): a dict with 'kinetic', "
+          "'strain', 'contact', 'external_work', 'dissipated' and 'balance_error' (floats). "
+          "Current after each run() or step() call and at each callback.")
       .def_property_readonly(
-          "strain_energy_density",
-          [](const PyBody& b) { return scalar_view(b.body().strain_energy_density, b.owner); },
-          "(n,) strain-energy density, J/m^3 (J/m^2 in 2D), as of the last energy evaluation "
-          "(after each run() or step() call) (read-only view)")
-      .def_property_readonly(
-          "volumes", [](const PyBody& b) { return scalar_view(b.body().volume, b.owner); },
-          "(n,) point volumes, m^3 (areas, m^2, in 2D) (read-only view)")
-      .def_property_readonly(
-          "damage",
-          [](const PyBody& b) {
-            std::vector<double> d;
-            point_damage(b.body(), d);
-            return read_only_copy(d);
+          "broken_bonds",
+          [](const PySimulation& s) {
+            s.check_free("Simulation.broken_bonds");
+            return s.sim().broken_bonds();
           },
-          "(n,) damage 1 - intact / all bonds: a new array")
-      .def_property_readonly("broken_bonds",
-                             [](const PyBody& b) { return b.sim->sim().broken_bonds(b.index); })
-      .def_property_readonly("precracked_bonds",
-                             [](const PyBody& b) { return b.sim->sim().precracked_bonds(b.index); })
-      .def_property_readonly("bonds", [](const PyBody& b) { return b.body().bond_count(); })
-      .def(
-          "fragments",
-          [](const PyBody& b) {
-            const FragmentCensus f = find_fragments(b.body());
+          "Bonds broken so far in all bodies (int; pre-cracks not counted).")
+      .def_property_readonly(
+          "max_damage",
+          [](const PySimulation& s) {
+            s.check_free("Simulation.max_damage");
+            return s.sim().max_damage();
+          },
+          "The largest point damage of all bodies, 0 to 1 (float).")
+      .def_property_readonly(
+          "bodies",
+          [](py::object self) {
+            PySimulation& s = self.cast<PySimulation&>();
+            s.check_free("Simulation.bodies");
             py::dict d;
-            d["count"] = f.count();
-            d["labels"] = read_only_copy(f.label);
-            d["sizes"] = read_only_copy(f.size);
+            for (std::size_t i = 0; i < s.scene().bodies.size(); ++i)
+              d[py::str(s.scene().bodies[i].body.name)] = PyBody{self, &s, i};
             return d;
           },
-          "Pieces connected by intact bonds: count, labels (per point), sizes (points per "
-          "piece)")
-      .def("__repr__", [](const PyBody& b) {
-        return "<ckpd.Body '" + b.body().name + "', " + std::to_string(b.body().dimension) + "D, " +
-               std::to_string(b.body().size()) + " points>";
-      });
-
-  py::class_<PyCondition>(m, "Condition", "One entry of the case's `conditions` list.")
-      .def_property_readonly("type",
-                             [](const PyCondition& c) { return c.sim->conditions()[c.index].type; })
+          "The bodies by name, in the case's order: a dict str -> Body.")
       .def_property_readonly(
-          "body", [](const PyCondition& c) { return c.sim->conditions()[c.index].body_name; })
-      .def_property_readonly("index", [](const PyCondition& c) { return c.index; })
-      .def_property_readonly(
-          "points", [](const PyCondition& c) { return read_only_copy(c.condition().points()); })
-      .def_property(
-          "value",
-          [](const PyCondition& c) -> py::object {
-            if (!c.condition().has_value()) return py::none();
-            const Vec3 v = c.condition().value();
-            py::array_t<double> a(c.dimension());
-            for (int k = 0; k < c.dimension(); ++k) a.mutable_at(k) = v[k];
-            return py::object(std::move(a));
-          },
-          [](PyCondition& c, const std::vector<double>& v) {
-            Condition& cond = c.condition();
-            const ConditionRef& ref = c.sim->conditions()[c.index];
-            if (!cond.has_value())
-              throw py::value_error("condition " + std::to_string(c.index) + " (" + ref.type +
-                                    " on '" + ref.body_name + "') has no value to change");
-            if (static_cast<int>(v.size()) != c.dimension())
-              throw py::value_error("value: expected " + std::to_string(c.dimension()) +
-                                    " numbers (a " + std::to_string(c.dimension()) + "D body)");
-            Vec3 x = Vec3::Zero();
-            for (int k = 0; k < c.dimension(); ++k) {
-              if (!std::isfinite(v[k])) throw py::value_error("value: expected finite numbers");
-              x[k] = v[k];
-            }
-            cond.set_value(x);
-          },
-          "The prescribed velocity of a `velocity` condition, m/s (None for other types); set "
-          "it between steps: the next step uses it")
-      .def("__repr__", [](const PyCondition& c) {
-        const ConditionRef& ref = c.sim->conditions()[c.index];
-        return "<ckpd.Condition " + std::to_string(c.index) + ": " + ref.type + " on '" +
-               ref.body_name + "'>";
-      });
-
-  py::class_<PySimulation>(m, "Simulation", "A case, ready to step.")
-      .def(py::init<const py::handle&, const py::handle&, const py::handle&, const py::handle&, int,
-                    bool>(),
-           py::arg("case"), py::arg("overrides") = py::none(), py::arg("out") = py::none(),
-           py::arg("restart") = py::none(), py::arg("threads") = 0, py::arg("progress") = false,
-           "Loads the case (a file or a dict; overrides as --set). With `out`, writes what "
-           "`ckpd run --out` writes; `restart`: a checkpoint of this case to continue from; "
-           "`threads`: OpenMP threads (0: all cores); `progress`: the progress line")
-      .def(
-          "run",
-          [](py::object self, py::object steps, py::object until, py::object callback,
-             long long every) {
+          "conditions",
+          [](py::object self) {
             PySimulation& s = self.cast<PySimulation&>();
-            if (!steps.is_none() && !until.is_none())
-              throw py::value_error("run: give steps or until, not both");
-            long long target = s.driver().total_steps();
-            if (!steps.is_none()) {
-              const long long n = steps.cast<long long>();
-              if (n < 0) throw py::value_error("steps: expected a number >= 0");
-              target = s.sim().step() + n;
-            } else if (!until.is_none()) {
-              target = s.step_at(until.cast<double>());
-              if (target < s.sim().step())
-                throw py::value_error("until: the run is already past that time");
-            }
-            return s.run_to(target, callback, every, self);
+            s.check_free("Simulation.conditions");
+            py::list l;
+            for (std::size_t i = 0; i < s.conditions().size(); ++i)
+              l.append(PyCondition{self, &s, i});
+            return l;
           },
-          py::arg("steps") = py::none(), py::arg("until") = py::none(),
-          py::arg("callback") = py::none(), py::arg("every") = 1)
-      .def("step",
-           [](py::object self) {
-             PySimulation& s = self.cast<PySimulation&>();
-             return s.run_to(s.sim().step() + 1, py::none(), 1, self);
-           })
-      .def(
-          "finish",
-          [](PySimulation& s, const std::string& status, const std::string& message) {
-            s.finish(status, message);
-          },
-          py::arg("status") = "stopped", py::arg("message") = "",
-          "Ends the run here: the history row of this step and summary.json with this status")
-      .def(
-          "checkpoint",
-          [](PySimulation& s, const py::object& where) {
-            const std::string path = path_text(where);
-            if (!path.empty()) {
-              write_checkpoint(path, s.sim());
-              return path;
-            }
-            if (s.driver().out().empty())
-              throw py::value_error("checkpoint: give a path (this simulation has no out folder)");
-            s.driver().write_checkpoint();
-            return s.driver().checkpoint_path();
-          },
-          py::arg("path") = py::none(),
-          "Writes a checkpoint (default: OUT/checkpoint.h5); returns its path")
-      .def_property_readonly("time", [](const PySimulation& s) { return s.sim().time(); })
-      .def_property_readonly("dt", [](const PySimulation& s) { return s.sim().step_choice().dt; })
-      .def_property_readonly("step_number", [](const PySimulation& s) { return s.sim().step(); })
-      .def_property_readonly("planned_steps",
-                             [](const PySimulation& s) { return s.sim().planned_steps(); })
-      .def_property_readonly("end_time",
-                             [](const PySimulation& s) {
-                               return static_cast<double>(s.sim().planned_steps()) *
-                                      s.sim().step_choice().dt;
-                             })
-      .def_property_readonly("status", &PySimulation::status)
-      .def_property_readonly("out",
-                             [](PySimulation& s) -> py::object {
-                               if (s.driver().out().empty()) return py::none();
-                               return py::str(s.driver().out());
-                             })
-      .def_property_readonly(
-          "energies", [](const PySimulation& s) { return energies_dict(s.sim().energies()); })
-      .def_property_readonly("broken_bonds",
-                             [](const PySimulation& s) { return s.sim().broken_bonds(); })
-      .def_property_readonly("max_damage",
-                             [](const PySimulation& s) { return s.sim().max_damage(); })
-      .def_property_readonly("bodies",
-                             [](py::object self) {
-                               PySimulation& s = self.cast<PySimulation&>();
-                               py::dict d;
-                               for (std::size_t i = 0; i < s.scene().bodies.size(); ++i)
-                                 d[py::str(s.scene().bodies[i].body.name)] = PyBody{self, &s, i};
-                               return d;
-                             })
-      .def_property_readonly("conditions",
-                             [](py::object self) {
-                               PySimulation& s = self.cast<PySimulation&>();
-                               py::list l;
-                               for (std::size_t i = 0; i < s.conditions().size(); ++i)
-                                 l.append(PyCondition{self, &s, i});
-                               return l;
-                             })
+          "The case's conditions, in its order: a list of Condition.")
       .def(
           "summary",
-          [](PySimulation& s) { return json_to_python(s.driver().summary(s.status(), "")); },
-          "The summary.json object as of now");
+          [](const PySimulation& s) {
+            s.check_free("Simulation.summary");
+            return json_to_python(s.driver().summary(s.status(), ""));
+          },
+          "summary(self)\n--\n\n"
+          "The summary.json object as of now (a dict; written to the output folder when the run "
+          "ends).");
+}
+
+std::string simulation_repr(const PySimulation& s) {
+  const std::size_t n = s.scene().bodies.size();
+  std::string text = "<ckpd.Simulation '" + s.case_name() + "': " + std::to_string(n) +
+                     (n == 1 ? " body" : " bodies");
+  try {
+    s.check_free("");
+  } catch (const BusyError&) {
+    return text + ", busy in another thread>";
+  }
+  return text + ", step " + std::to_string(s.sim().step()) + " of " +
+         std::to_string(s.sim().planned_steps()) + ", t = " + float_text(s.sim().time()) + " s, " +
+         s.status() + ">";
+}
+
+}  // namespace
+
+void bind_simulation(py::module_& m) {
+  py::register_exception<BusyError>(m, "BusyError", PyExc_RuntimeError).attr("__doc__") =
+      "Raised by a call on a Simulation (or one of its Body and Condition objects) while "
+      "another thread's call uses it: one call at a time per Simulation. A RuntimeError.";
+  py::class_<PySimulation> c(
+      m, "Simulation",
+      "A case, loaded and ready to step: run it, step it, steer it between steps, read its "
+      "state as numpy arrays.\n\n"
+      "With `out` it writes what `ckpd run --out` writes (history.csv, field frames, "
+      "checkpoints, summary.json), the same bits. The run ends (summary.json written, no step "
+      "after it) when it reaches the case's end, when a callback returns False or raises, on "
+      "finish(), on Ctrl-C (a checkpoint first) or when it goes unstable. Units are SI (2D: per "
+      "metre of thickness). Steps run without the GIL; one call at a time per Simulation: a "
+      "call from another thread meanwhile raises BusyError.");
+  c.def(py::init<const py::handle&, const py::handle&, const py::handle&, const py::handle&, int,
+                 bool>(),
+        py::arg("case"), py::arg("overrides") = py::none(), py::arg("out") = py::none(),
+        py::arg("restart") = py::none(), py::arg("threads") = 0, py::arg("progress") = false,
+        "__init__(self, case, overrides=None, out=None, restart=None, threads=0, progress=False)"
+        "\n--\n\n"
+        "Loads the case: `case` is a case file (str or os.PathLike) or a dict with the case "
+        "file's keys; `overrides` as `ckpd run --set`: a dict {'key.path': value} or a list of "
+        "'key.path=value' strings. `out`: the output folder (None: no files). `restart`: a "
+        "checkpoint of this case to continue from. `threads`: OpenMP threads, 0 (all cores) to "
+        "4096. `progress`: print the progress line. Raises CaseError for a bad case (the "
+        "message names the key), CheckpointError for a bad checkpoint, ValueError for a bad "
+        "argument.");
+  c.def(
+      "run",
+      [](py::object self, py::object steps, py::object until, py::object callback,
+         long long every) {
+        PySimulation& s = self.cast<PySimulation&>();
+        const PySimulation::Busy busy(s, "Simulation.run", true);
+        if (!steps.is_none() && !until.is_none())
+          throw py::value_error("run: give steps or until, not both");
+        long long target = s.driver().total_steps();
+        if (!steps.is_none()) {
+          const long long n = steps.cast<long long>();
+          if (n < 0) throw py::value_error("steps: expected a number >= 0");
+          target = s.sim().step() + n;
+        } else if (!until.is_none()) {
+          target = s.step_at(until.cast<double>());
+          if (target < s.sim().step())
+            throw py::value_error("until: the run is already past that time");
+        }
+        return s.run_to(target, callback, every, self);
+      },
+      py::arg("steps") = py::none(), py::arg("until") = py::none(),
+      py::arg("callback") = py::none(), py::arg("every") = 1,
+      "run(self, steps=None, until=None, callback=None, every=1)\n--\n\n"
+      "Steps the simulation: `steps` more steps, or `until` a time (s; to the first step at "
+      "or after it), or (neither) to the case's end, which ends the run with status "
+      "'completed'. `callback(sim)` is called every `every` steps (after the step, with the "
+      "GIL: read and steer there); returning False stops the run (status 'stopped'), raising "
+      "ends it (status 'failed') and propagates. Returns the number of steps done (int). "
+      "Raises InstabilityError (TunnellingError) when the run goes unstable, RuntimeError "
+      "after the run has ended, BusyError while another thread's call uses the simulation.");
+  c.def(
+      "step",
+      [](py::object self) {
+        PySimulation& s = self.cast<PySimulation&>();
+        const PySimulation::Busy busy(s, "Simulation.step", true);
+        return s.run_to(s.sim().step() + 1, py::none(), 1, self);
+      },
+      "step(self)\n--\n\n"
+      "One step; the same as run(steps=1). Returns 1 (int).");
+  c.def(
+      "finish",
+      [](PySimulation& s, const py::object& status, const std::string& message) {
+        const PySimulation::Busy busy(s, "Simulation.finish", false);
+        s.finish_by_user(status, message);
+      },
+      py::arg("status") = py::none(), py::arg("message") = "",
+      "finish(self, status=None, message='')\n--\n\n"
+      "Ends the run here: the history row of this step and summary.json with `status` and "
+      "`message`; no step after it. `status`: 'stopped' (None, the default), 'failed', or "
+      "'completed' when the run is at its last planned step (ValueError otherwise). With no "
+      "status, finishing a run that has ended does nothing; with one, it raises RuntimeError. "
+      "May be called from a callback: run() then returns after it.");
+  c.def(
+      "checkpoint",
+      [](PySimulation& s, const py::object& where) {
+        const PySimulation::Busy busy(s, "Simulation.checkpoint", false);
+        const std::string path = path_text(where);
+        if (!path.empty()) {
+          write_checkpoint(path, s.sim());
+          return path;
+        }
+        if (s.driver().out().empty())
+          throw py::value_error("checkpoint: give a path (this simulation has no out folder)");
+        s.driver().write_checkpoint();
+        return s.driver().checkpoint_path();
+      },
+      py::arg("path") = py::none(),
+      "checkpoint(self, path=None)\n--\n\n"
+      "Writes a checkpoint of the current state to `path` (str or os.PathLike; None: "
+      "OUT/checkpoint.h5) and returns its path (str). Simulation(case, restart=path) continues "
+      "from it, bit for bit.");
+  bind_state(c);
+  c.def("__repr__", &simulation_repr);
 }
 
 }  // namespace ckpd::python

@@ -27,9 +27,10 @@ def test_a_callback_that_raises_stops_the_run_with_its_traceback_and_keeps_the_h
     assert list(run.history["step"]) == [0, 10, 20, 30]
     assert run.summary["status"] == "failed"
     assert "Boom" in run.summary["message"] and "step 30" in run.summary["message"]
-    # The state is whole: the run can go on to its end.
-    sim.run()
-    assert sim.status == "completed" and sim.step_number == 60
+    # The run has ended with its summary: no step after it.
+    with pytest.raises(RuntimeError, match=r"the run has ended \(status 'failed' at step 30\)"):
+        sim.run()
+    assert len(ckpd.open_run(tmp_path / "run").history["step"]) == 4
 
 
 def test_a_callback_returning_false_stops_the_run(tmp_path, plate):

@@ -27,17 +27,6 @@
 
 namespace ckpd {
 
-namespace {
-
-struct CheckOptions {
-  std::string case_file;
-  std::vector<std::string> overrides;
-  int steps = 3;
-  int threads = 0;
-  int ranks = 0;            // 0: no decomposition report
-  bool cost_ratio = false;  // time the far field's linear and exact steps (far_field_cost)
-};
-
 // Bytes the body's own arrays hold: state and reference vectors, per-point constants, the CSR
 // family and its intact flags, the general path's adjacency rows where the body has them.
 // (Kernel scratch adds threads x points x 32 bytes.)
@@ -51,6 +40,17 @@ double body_megabytes(const Body& b) {
   return (n * per_point + static_cast<double>(b.family.bond_entries()) * per_bond_entry + rows) /
          1e6;
 }
+
+namespace {
+
+struct CheckOptions {
+  std::string case_file;
+  std::vector<std::string> overrides;
+  int steps = 3;
+  int threads = 0;
+  int ranks = 0;            // 0: no decomposition report
+  bool cost_ratio = false;  // time the far field's linear and exact steps (far_field_cost)
+};
 
 std::string megabytes_text(double mb) {
   std::ostringstream s;
