@@ -11,6 +11,7 @@
 #include "src/case/case_loader.hpp"
 #include "src/cli/check_command.hpp"
 #include "src/engine/contact_coupling.hpp"
+#include "src/engine/scene_warnings.hpp"
 #include "src/engine/simulation.hpp"
 #include "src/output/kernel_report.hpp"
 #include "src/output/run_output.hpp"
@@ -140,6 +141,7 @@ py::dict check_report(const py::handle& source, const py::handle& overrides, lon
   time["step_mode"] = sim.adaptive() ? "adaptive" : "fixed";
   report["time"] = time;
   report["contact"] = contact_law_report(scene);
+  report["warnings"] = scene_warnings(sim);
   py::dict memory;
   memory["body_data_mb"] = megabytes;
   memory["peak_rss_mb"] = peak_rss_mb();

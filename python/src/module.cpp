@@ -75,6 +75,7 @@ PYBIND11_MODULE(_ckpd, m) {
         "far_field and mesh dicts or None), 'stable_step' (estimate (s), limiting_body, "
         "limiting_point, limiting_position (m)), 'time' (dt (s), safety, dt_from_case, "
         "planned_steps, end_time (s), step_mode), 'contact' (the contact laws' report, str), "
+        "'warnings' (the set-up warnings `ckpd check` prints, a list of str), "
         "'memory' (body_data_mb, peak_rss_mb: MB) and 'timing' (setup_seconds, timed_steps, "
         "threads, seconds_per_step and projected_seconds: s, None without timed steps). Raises "
         "CaseError for a bad case, InstabilityError when a timed step goes unstable.");

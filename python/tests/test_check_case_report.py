@@ -33,6 +33,18 @@ def test_the_report_holds_what_ckpd_check_prints(tmp_path, plate):
     assert timing["timed_steps"] == 3 and timing["threads"] == 1
     assert timing["seconds_per_step"] > 0 and timing["projected_seconds"] > timing["setup_seconds"]
     assert report["memory"]["body_data_mb"] > 0
+    printed_warnings = re.findall(r"^warning: (.*)$", printed, flags=re.M)
+    assert report["warnings"] == printed_warnings
+
+
+def test_the_report_lists_the_set_up_warnings(plate):
+    # A damage field in a case where no body can break (the plate's material has no Gc here).
+    case = dict(plate)
+    case["materials"] = {k: {kk: vv for kk, vv in v.items() if kk != "fracture_energy"}
+                         for k, v in plate["materials"].items()}
+    case["output"] = {"fields": ["damage"], "field_interval": 10}
+    report = ckpd.check_case(case, steps=0)
+    assert any("no body can break" in w for w in report["warnings"])
 
 
 def test_no_timed_steps_gives_no_timing(plate):
