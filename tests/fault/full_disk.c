@@ -66,8 +66,8 @@ ssize_t write(int fd, const void* buf, size_t size) {
   return real(fd, buf, size);
 }
 
-static ssize_t positioned(ssize_t (*real)(int, const void*, size_t, off_t), int fd,
-                          const void* buf, size_t size, off_t offset) {
+static ssize_t positioned(ssize_t (*real)(int, const void*, size_t, off_t), int fd, const void* buf,
+                          size_t size, off_t offset) {
   const size_t room = allowed(fd, size);
   if (room == 0) FULL_DISK_FAIL;
   if (room < size) {
