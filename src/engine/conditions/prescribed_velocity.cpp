@@ -1,8 +1,8 @@
 // `velocity`: prescribed velocity on a region, constant or ramped linearly from 0 over
-// `ramp_time` (THEORY.md section 7), optionally only for `duration` seconds from t = 0 (then
-// the points are let go and move under their forces: a finite pulse), or tabulated over time
-// (`value: {table: [[t, vx, vy, vz],
-// ...], interpolation: linear | step}`, src/engine/time_table.hpp), on all or some components.
+// `ramp_time` (THEORY.md section 7), or tabulated over time (`value: {table: [[t, vx, vy, vz],
+// ...], interpolation: linear | step}`, src/engine/time_table.hpp), on all or some components;
+// with `duration`, only for 0 <= t <= duration (then the points move under their forces: a
+// finite pulse).
 // `fixed`: zero velocity. `velocity_table` (`times`, `values`, `interpolation`) is the same
 // condition as a `velocity` with a table value, spelt as the Python examples first wrote it.
 #include <algorithm>
