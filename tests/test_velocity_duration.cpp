@@ -1,6 +1,6 @@
 // A `velocity` with a `duration` prescribes its points only until then: afterwards they move
 // under their forces and the load does no more work. A duration not longer than the ramp is bad
-// input.
+// input, and so is one that ends before the first step does.
 #include <catch2/catch.hpp>
 #include <string>
 
@@ -58,4 +58,15 @@ TEST_CASE("a velocity's duration must be longer than its ramp", "[conditions][ha
     CHECK(r.output.find("case.yaml:6: conditions[0].duration") != std::string::npos);
     CHECK(r.output.find("duration") != std::string::npos);
   }
+}
+
+TEST_CASE("a velocity's duration no longer than one step is refused", "[conditions][hardened]") {
+  // The bar's stable step is about 1e-7 s: a 1e-12 s hold ends before the first step does.
+  const auto dir = fresh_dir("duration-short");
+  const CommandResult r =
+      run_ckpd("check " + write_file(dir / "case.yaml", bar(", duration: 1.0e-12")) + " --steps 0");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("case.yaml:6: conditions[0].duration = 1e-12 s on body 'bar' is not "
+                      "longer than the time step") != std::string::npos);
 }

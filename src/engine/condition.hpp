@@ -5,6 +5,7 @@
 // step, never per point through a virtual call.
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -56,12 +57,24 @@ class Condition {
   // "case.yaml:12: conditions[0]", for errors about what the condition asks (make_condition).
   const std::string& where() const { return where_; }
   void set_where(std::string where) { where_ = std::move(where); }
+  // How long it acts from t = 0 (a pulse's length, a velocity's `duration`; infinite for the
+  // others) and where the case sets that ("case.yaml:14: conditions[0].duration"). The run
+  // refuses a duration no step after t = 0 falls in (src/engine/simulation.cpp): a pulse that
+  // short would put in no load at all.
+  double duration() const { return duration_; }
+  const std::string& duration_where() const { return duration_where_; }
+  void set_duration(double seconds, std::string where) {
+    duration_ = seconds;
+    duration_where_ = std::move(where);
+  }
 
  protected:
   std::vector<std::uint32_t> points_;
 
  private:
   std::string where_;
+  double duration_ = std::numeric_limits<double>::infinity();
+  std::string duration_where_;
 };
 
 using ConditionFactory =

@@ -122,6 +122,22 @@ std::string speed_source(const SceneBody& sb) {
   return "body '" + sb.body.name + "' (its rigid motion)";
 }
 
+// A condition that acts for no longer than one step ends before the first force evaluation
+// after t = 0: a pulse p(t) = 4 p0 u (1 - u) is zero at t = 0, so it would put in no load, and a
+// velocity would hold its points for no step. Refused rather than run as if it had acted.
+void refuse_unsampled_durations(const Scene& scene, double dt) {
+  for (const SceneBody& sb : scene.bodies)
+    for (const auto& c : sb.conditions) {
+      if (!(c->duration() <= dt)) continue;
+      std::ostringstream msg;
+      msg << c->duration_where() << " = " << c->duration() << " s on body '" << sb.body.name
+          << "' is not longer than the time step dt = " << dt
+          << " s: no step after t = 0 falls within it, so it would not act as written; expected "
+             "a duration of more than one step (10 or more resolve a pulse's impulse to 1 %)";
+      throw std::invalid_argument(msg.str());
+    }
+}
+
 }  // namespace
 
 std::vector<ContactPairRadius> contact_pair_radii(const Scene& scene) {
@@ -253,6 +269,7 @@ Simulation::Simulation(Scene& scene, std::unique_ptr<Distribution> distribution)
         1, planned_count(scene_.time, scene_.time.end_time, step_choice_.dt, step_choice_.user_dt));
     last_dt_ = scene_.time.end_time - static_cast<double>(planned_steps_ - 1) * step_choice_.dt;
   }
+  refuse_unsampled_durations(scene_, step_choice_.dt);
   double max_speed = 0;
   for (SceneBody& sb : scene_.bodies) {
     for (const auto& c : sb.conditions) {

@@ -177,10 +177,12 @@ const KeySection& case_key_section() {
     for (const auto& [name, section] : key_sections()) {
       if (section.title.empty())
         throw std::logic_error("key section '" + name + "' has variants but no keys of its own");
+      // A named copy: clang before 16 cannot capture a structured binding.
+      const std::string& section_name = name;
       auto check = [&](const KeySpec& k) {
         if (!k.ref.empty() && !find_key_section(k.ref))
-          throw std::logic_error("key '" + name + "." + k.name + "' names key section '" + k.ref +
-                                 "', which is not registered");
+          throw std::logic_error("key '" + section_name + "." + k.name + "' names key section '" +
+                                 k.ref + "', which is not registered");
       };
       for (const KeySpec& k : section.keys) check(k);
       for (const KeyVariant& v : section.variants)

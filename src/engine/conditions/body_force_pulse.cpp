@@ -36,12 +36,15 @@ const bool registered =
       const int dim = t.body.dimension;
       auto points = select_points(n.optional("region"), t);
       const double peak = n.required("peak").as_double();
-      const double duration = n.required("duration").as_positive();
+      const CaseNode duration_node = n.required("duration");
+      const double duration = duration_node.as_positive();
       const CaseNode dn = n.required("direction");
       const Vec3 direction = dn.as_vector(dim);
       if (direction.norm() == 0) dn.fail("a non-zero direction");
-      return std::unique_ptr<Condition>(
+      auto pulse = std::unique_ptr<Condition>(
           new BodyForcePulse(std::move(points), peak, duration, direction, t.spacing));
+      pulse->set_duration(duration, duration_node.where());
+      return pulse;
     });
 
 const bool gravity_registered = register_condition("gravity", [](const CaseNode& n,

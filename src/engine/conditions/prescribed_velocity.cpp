@@ -82,13 +82,17 @@ const bool velocity_registered =
           r->fail("no ramp_time with a table value (put the ramp in the table)");
       }
       double duration = std::numeric_limits<double>::infinity();
+      std::string duration_where;
       if (auto d = n.optional("duration")) {
         duration = d->as_positive();
+        duration_where = d->where();
         if (!(duration > ramp))
           d->fail("a duration in s longer than the ramp_time (" + std::to_string(ramp) + " s)");
       }
-      return std::unique_ptr<Condition>(new PrescribedVelocity(std::move(points), std::move(value),
-                                                               components, ramp, true, duration));
+      auto velocity = std::unique_ptr<Condition>(new PrescribedVelocity(
+          std::move(points), std::move(value), components, ramp, true, duration));
+      if (!duration_where.empty()) velocity->set_duration(duration, duration_where);
+      return velocity;
     });
 
 // `times` and `values` as a velocity's table (the `velocity_table` spelling).
