@@ -1,11 +1,11 @@
-// A DEM sphere striking a fixed wall nearly head-on (v_t / v_n = 0.1, far below the sliding
-// limit 3.5 mu (1 + e)): the contact sticks, the tangential spring stores the motion and turns
-// it over (Maw, Barber and Fawcett 1976), so the rebound's v_t' and omega R are set by the
+// A DEM sphere striking a fixed wall nearly head-on (v_t / v_n = 0.1 and 0.5, below the sliding
+// limit 3.5 mu (1 + e) = 2): the contact sticks, the tangential spring stores the motion and
+// turns it over (Maw, Barber and Fawcett 1976), so the rebound's v_t' and omega R are set by the
 // spring's oscillation against the sphere's mass and inertia together. Compared with a finely
 // integrated reference of the same law written here on its own: a sphere of mass m and inertia
 // 2/5 m R^2 in the x-z plane, Hertz normal force with the dashpot of e, Mindlin's tangential
 // spring k_t = 8 G* sqrt(R delta) with Coulomb's cap, acting at the wall (arm: the centre's
-// height), by symplectic Euler at a step a few thousand times below the program's.
+// height), by symplectic Euler at a step ten thousand times below the program's.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <numbers>
