@@ -45,6 +45,10 @@ struct PairLaw {
   double radius = 0;                  // l_c, m
   double stiffness = 0;               // Ccon, Pa (0 for a law without it)
   double skin = 0;                    // broad-phase skin, m
+  // Each side's contact radius when a DEM sphere takes part (R for the sphere; they add up to
+  // l_c): the contact point of a point pair then lies where the two sides' surfaces meet,
+  // p = (x^i + x^j)/2 + (r_j - r_i)/2 n (contact_manager.cpp). Both 0: the midpoint.
+  double side_radius[2] = {0, 0};
   // c = 9 Ccon / (pi delta^5) of the force that side 0 (the first body) and side 1 receive.
   double coefficient[2] = {0, 0};
   double mean_coefficient() const { return 0.5 * (coefficient[0] + coefficient[1]); }

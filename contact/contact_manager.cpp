@@ -381,7 +381,11 @@ void ContactManager::add_forces(double dt) {
             if (p.self && body.bonded(i, j)) return;
             const double distance = std::sqrt(r2);
             const Vec3 n = d / distance;
-            const Vec3 at = 0.5 * (xi + xj);
+            // The contact point: the midpoint, or where the two sides' surfaces meet when a DEM
+            // sphere takes part (contact_law.hpp); both ends form the same point.
+            Vec3 at = 0.5 * (xi + xj);
+            const double shift = p.law.side_radius[other] - p.law.side_radius[side];
+            if (shift != 0) at += (0.5 * shift) * n;
             // Each end's material velocity at p formed alone, so that the two ends' differences
             // are exactly opposite.
             Vec3 mine = body.velocity_at(i, at), theirs = partner.velocity_at(j, at);

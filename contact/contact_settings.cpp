@@ -48,12 +48,28 @@ std::optional<PairLaw> ContactSettings::law(const std::vector<ContactBody>& bodi
   PairLaw law;
   law.name = name;
   law.stiffness = stiffness.value_or(0);
-  law.radius = pick(&ContactConstants::radius)
-                   .value_or(kDefaultRadiusRatio * std::max(A.points.spacing, B.points.spacing));
+  const std::optional<double> own_radius =
+      own && own->constants.radius ? own->constants.radius : std::nullopt;
+  if (!own_radius && (A.sphere_radius > 0 || B.sphere_radius > 0)) {
+    // A DEM sphere takes part: the sum of the two sides' contact radii (contact_settings.hpp).
+    auto side = [&](const ContactBody& x) {
+      if (x.sphere_radius > 0) return x.sphere_radius;
+      if (x.wall) return 0.0;
+      return 0.5 * global.radius.value_or(kDefaultRadiusRatio * x.points.spacing);
+    };
+    law.side_radius[0] = side(A);
+    law.side_radius[1] = side(B);
+    law.radius = law.side_radius[0] + law.side_radius[1];
+  } else {
+    law.radius = pick(&ContactConstants::radius)
+                     .value_or(kDefaultRadiusRatio * std::max(A.points.spacing, B.points.spacing));
+  }
   law.skin = pick(&ContactConstants::skin).value_or(law.radius);
   // The law's parameters: the global ones it knows, overridden by the pair's own.
   LawInputs inputs;
   inputs.radius = law.radius;
+  inputs.side_radius[0] = law.side_radius[0];
+  inputs.side_radius[1] = law.side_radius[1];
   for (int k = 0; k < 2; ++k) {
     const ContactBody& body = k == 0 ? A : B;
     inputs.side[k] = {std::string(body.points.name), body.rigid, body.wall != nullptr,

@@ -24,6 +24,8 @@ struct ContactBody {
   // points; its partners' points meet its surface instead.
   const MeshWall* wall = nullptr;
   std::optional<ElasticConstants> elastic;  // E and nu of its material (dem_law.hpp), if known
+  // A DEM sphere (one point at its centre): its radius R; 0 for every other body.
+  double sphere_radius = 0;
 };
 
 // The default l_c over the larger lattice spacing of the two bodies. THEORY.md suggests about
@@ -38,7 +40,9 @@ struct ContactConstants {
   std::optional<std::string> law;  // dem_law.hpp; default kDefaultLaw
   // The law's own parameters (one value, or one per side), for the keys it declares.
   std::map<std::string, std::vector<double>> parameters;
-  std::optional<double> radius;     // l_c; default kDefaultRadiusRatio x the larger spacing
+  // l_c; default kDefaultRadiusRatio x the larger spacing, or the sum of the two sides' contact
+  // radii when a DEM sphere takes part (ContactSettings::law)
+  std::optional<double> radius;
   std::optional<double> stiffness;  // Ccon; a pair without one (own or global) has no contact
   std::optional<double> skin;       // default: the radius
   std::optional<double> horizon;    // delta for both sides; default each receiver's own horizon
@@ -60,6 +64,12 @@ struct ContactSettings {
   // (no stiffness for a law that needs one, disabled, self-contact not asked for, or both
   // prescribed). Throws std::invalid_argument when the pair interacts but no horizon can be found
   // (two rigid bodies without a `horizon`), for an unknown law, or a law's missing parameter.
+  //
+  // The contact radius l_c of a pair with a DEM sphere, unless the pair gives its own `radius`,
+  // is the sum of the two sides' contact radii: R for a sphere, 0 for a mesh wall, and for a
+  // point of any other body half the l_c its points have with each other (the global `radius`,
+  // else kDefaultRadiusRatio x its spacing). So two spheres touch at R_a + R_b, a sphere and a
+  // wall at R, a sphere and a lattice point at R + 0.375 dx by default.
   std::optional<PairLaw> law(const std::vector<ContactBody>& bodies, std::size_t a,
                              std::size_t b) const;
   const ContactPairSetting* pair_setting(std::size_t a, std::size_t b) const;

@@ -47,9 +47,13 @@ namespace {
 // row sum 2 N K / V^x with K the law's normal stiffness at the deepest stable overlap l_c / 2
 // (as for the seed law), raised by the tangential spring where it is stiffer and by the dashpot
 // (velocity Verlet with damping ratio zeta is stable up to omega dt = 2 (sqrt(1 + zeta^2) - zeta)),
-// over the smallest and the largest point of x against the largest of y.
-double dem_bound(const DemLaw& law, double radius, const PointSet& x, const PointSet* y,
+// over the smallest and the largest point of x against the largest of y. A free DEM sphere's
+// tangential mode also turns it: at its surface it meets the spring with the reduced mass
+// (1/m + R^2/I)^-1 = m / 3.5 for the solid sphere, so its tangential stiffness counts 3.5 times.
+double dem_bound(const DemLaw& law, double radius, const ContactBody& xb, const PointSet* y,
                  double partners) {
+  const PointSet& x = xb.points;
+  const double spin = xb.sphere_radius > 0 && !xb.prescribed ? 3.5 : 1.0;
   // A set without points (a rank's empty part of a body) feels nothing.
   if (x.volume.empty() || (y && y->volume.empty())) return 0;
   auto extremes = [](const PointSet& s) {
@@ -66,7 +70,8 @@ double dem_bound(const DemLaw& law, double radius, const PointSet& x, const Poin
     const LawPoint there = y ? LawPoint{y_large, y->density * y_large}
                              : LawPoint{0, std::numeric_limits<double>::infinity()};
     const NormalResponse r = law.normal(0.5 * radius, here, there, y == nullptr);
-    const double stiffest = std::max(r.stiffness, law.friction > 0 ? r.tangential_stiffness : 0);
+    const double stiffest =
+        std::max(r.stiffness, law.friction > 0 ? spin * r.tangential_stiffness : 0);
     k = std::max(k, 2 * partners * stiffest * damping / vx);
   }
   return kContactResolution * k;
@@ -103,13 +108,12 @@ std::vector<double> contact_stiffness_bounds(const ContactSettings& settings,
           const std::size_t point_side = bodies[a].wall ? b : a;
           if (!bodies[point_side].wall)
             k[point_side] = std::max(
-                k[point_side],
-                dem_bound(*law->dem, law->radius, bodies[point_side].points, nullptr, 1.0));
+                k[point_side], dem_bound(*law->dem, law->radius, bodies[point_side], nullptr, 1.0));
           continue;
         }
-        k[a] = std::max(k[a], dem_bound(*law->dem, law->radius, bodies[a].points, &bodies[b].points,
+        k[a] = std::max(k[a], dem_bound(*law->dem, law->radius, bodies[a], &bodies[b].points,
                                         partners(bodies[b])));
-        k[b] = std::max(k[b], dem_bound(*law->dem, law->radius, bodies[b].points, &bodies[a].points,
+        k[b] = std::max(k[b], dem_bound(*law->dem, law->radius, bodies[b], &bodies[a].points,
                                         partners(bodies[a])));
         continue;
       }

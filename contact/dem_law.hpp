@@ -85,6 +85,8 @@ struct LawParameter {
 struct LawInputs {
   std::map<std::string, std::vector<double>> parameters;  // resolved for the pair, validated
   double radius = 0;                                      // l_c
+  // The two sides' contact radii (PairLaw::side_radius) when a DEM sphere takes part, else 0.
+  double side_radius[2] = {0, 0};
   double coefficient = 0;  // mean 9 Ccon/(pi delta^5) of the pair (laws that need a stiffness)
   // The two bodies of the pair (side 0, side 1), for laws that use their materials.
   struct Side {

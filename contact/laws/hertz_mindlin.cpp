@@ -66,8 +66,9 @@ const bool registered = register_law(
       {"poisson_ratio",
        "nu in (-1, 0.5): one value, or one per side of the pair (overrides the bodies' own)", false,
        2, valid_poisson},
-      {"effective_radius", "R* > 0 (m; default l_c/4, l_c/1 against a wall)", false, 1,
-       valid_positive}},
+      {"effective_radius",
+       "R* > 0 (m; default l_c/4, l_c/1 against a wall, R_a R_b/(R_a + R_b) with DEM spheres)",
+       false, 1, valid_positive}},
      false,
      [](const LawInputs& in) -> std::shared_ptr<const DemLaw> {
        const double e1 = elastic_value(in, "youngs_modulus", 0),
@@ -75,9 +76,15 @@ const bool registered = register_law(
        const double n1 = elastic_value(in, "poisson_ratio", 0),
                     n2 = elastic_value(in, "poisson_ratio", 1);
        const double given = value_or(in, "effective_radius", 0);
+       // With a DEM sphere the sides' own radii: R* = r_1 r_2 / (r_1 + r_2) (a side of radius 0,
+       // a point without a lattice, leaves the other's); against a wall the sphere's R = l_c.
+       const double r1 = in.side_radius[0], r2 = in.side_radius[1];
+       const double pair = r1 > 0 && r2 > 0 ? r1 * r2 / (r1 + r2)
+                           : r1 + r2 > 0    ? r1 + r2
+                                            : in.radius / 4;
        return std::make_shared<HertzMindlin>(
            hertz::effective_modulus(e1, n1, e2, n2), hertz::effective_shear_modulus(e1, n1, e2, n2),
-           given > 0 ? given : in.radius / 4, given > 0 ? given : in.radius,
+           given > 0 ? given : pair, given > 0 ? given : in.radius,
            side_value(in, "restitution", 0), value_or(in, "friction", 0));
      }});
 

@@ -36,10 +36,13 @@ struct MaterialSpec {
 };
 
 std::map<std::string, MaterialSpec> read_materials(const CaseNode& root) {
+  // Optional: rigid bodies and DEM spheres may give their mass, E and nu themselves.
   std::map<std::string, MaterialSpec> materials;
-  for (const auto& [name, m] : root.required("materials").entries())
+  const auto section = root.optional("materials");
+  if (!section) return materials;
+  for (const auto& [name, m] : section->entries())
     materials.emplace(name, MaterialSpec{make_material(m), m});
-  if (materials.empty()) root.required("materials").fail("at least one material");
+  if (materials.empty()) section->fail("at least one material");
   return materials;
 }
 
@@ -118,7 +121,9 @@ SceneBody read_body(const CaseNode& n, const std::map<std::string, MaterialSpec>
   def.name = n.required("name").as_string();
   const CaseNode material_node = n.required("material");
   const auto mit = materials.find(material_node.as_string());
-  if (mit == materials.end()) material_node.fail("the name of a material in `materials`");
+  if (mit == materials.end())
+    material_node.fail(materials.empty() ? "a material in a `materials` section (the case has none)"
+                                         : "the name of a material in `materials`");
   const MaterialSpec& mat = mit->second;
 
   def.dimension = 3;

@@ -1,5 +1,7 @@
 #include "src/case/rigid_body_loader.hpp"
 
+#include <numbers>
+
 #include "src/case/mesh_wall_loader.hpp"
 #include "src/geometry/lattice.hpp"
 #include "src/geometry/mesh/mesh_shape.hpp"
@@ -10,6 +12,30 @@ namespace ckpd {
 namespace {
 
 constexpr std::size_t kDefaultMaxPoints = 20'000'000;
+
+// One point at the centre carrying the sphere's volume 4/3 pi R^3 (so rho V is its mass) and
+// the solid sphere's inertia 2/5 m R^2 about every axis.
+SceneBody read_dem_sphere(const CaseNode& d, const std::string& name, RigidMotion::Kind kind,
+                          const Vec3& velocity, const Vec3& omega, std::optional<double> mass,
+                          std::optional<double> density) {
+  const Vec3 centre = d.required("center").as_vector(3);
+  const double radius = d.required("radius").as_in_range(1e-9, 1e6, "a sphere radius in m");
+  d.finish();
+  const double volume = 4.0 / 3 * std::numbers::pi * radius * radius * radius;
+  // A prescribed sphere without a mass books no kinetic energy; its motion needs none.
+  const double rho = mass ? *mass / volume : density.value_or(0.0);
+  SceneBody sb;
+  sb.sphere_radius = radius;
+  try {
+    sb.body = make_point_set(name, 3, {centre}, {volume}, rho);
+    const double inertia = 0.4 * rho * volume * radius * radius;
+    sb.rigid.emplace(sb.body, kind, velocity, omega,
+                     RigidMotion::Mat3(inertia * RigidMotion::Mat3::Identity()));
+  } catch (const std::invalid_argument& e) {
+    throw CaseError(d.where() + ": " + e.what());
+  }
+  return sb;
+}
 
 }  // namespace
 
@@ -38,10 +64,17 @@ SceneBody read_rigid_body(const CaseNode& n, std::optional<double> material_dens
     omega = dimension == 3 ? w->as_vector(3) : Vec3(0, 0, w->as_double());
   std::optional<double> mass;
   if (auto m = r.optional("mass")) mass = m->as_positive();
+  if (auto d = r.optional("density")) {
+    if (mass) d->fail("either rigid.mass or rigid.density, not both");
+    if (material_density) d->fail("either rigid.density or a material (its density), not both");
+    material_density = d->as_in_range(1e-6, 1e6, "a density in kg/m^3");
+  }
   if (mass && material_density)
     r.required("mass").fail("either rigid.mass or a material (its density), not both");
   if (kind == RigidMotion::Kind::free && !mass && !material_density)
-    r.fail("a mass for a free rigid body: rigid.mass (kg) or a material (its density)");
+    r.fail(
+        "a mass for a free rigid body: rigid.mass (kg), rigid.density (kg/m^3) or a material (its "
+        "density)");
   // E and nu for contact laws that use them (hertz_mindlin): both keys or neither.
   std::optional<ElasticConstants> elastic = material_elastic;
   if (r.has("youngs_modulus") || r.has("poisson_ratio")) {
@@ -59,6 +92,17 @@ SceneBody read_rigid_body(const CaseNode& n, std::optional<double> material_dens
     elastic = c;
   }
   r.finish();
+  if (auto d = n.optional("dem_sphere")) {
+    for (const char* other : {"geometry", "mesh_wall", "spacing", "max_points"})
+      if (n.has(other))
+        n.required(other).fail(std::string("no `") + other +
+                               "` on a DEM sphere (its `dem_sphere` gives its centre and radius)");
+    if (dimension != 3) d->fail("a 3D body for a DEM sphere");
+    SceneBody sphere = read_dem_sphere(*d, name, kind, velocity, omega, mass, material_density);
+    sphere.elastic = elastic;
+    n.finish();
+    return sphere;
+  }
   if (auto w = n.optional("mesh_wall")) {
     if (n.has("geometry")) n.fail("either geometry (points) or mesh_wall (a surface), not both");
     if (dimension != 3) w->fail("a 3D body for a mesh wall");

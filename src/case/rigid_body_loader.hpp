@@ -1,8 +1,10 @@
 #pragma once
 // Reads a body with a `rigid` key: points on a lattice like any body, no bonds, and a rigid
 // motion (src/engine/rigid_body.hpp). Keys: name, rigid {motion: prescribed | free, velocity,
-// angular_velocity, mass, youngs_modulus, poisson_ratio}, material (its density, E and nu),
-// dimension, geometry, spacing, max_points. E and nu serve contact laws that use them.
+// angular_velocity, mass, density, youngs_modulus, poisson_ratio}, material (its density, E and
+// nu), dimension, and geometry with spacing and max_points, or mesh_wall, or dem_sphere {center,
+// radius}: a DEM sphere, one point at its centre with the solid sphere's inertia 2/5 m R^2 and
+// the contact radius R (contact/contact_settings.hpp). E and nu serve contact laws that use them.
 #include <optional>
 
 #include "src/engine/scene.hpp"

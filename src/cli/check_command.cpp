@@ -208,6 +208,8 @@ int check(const CheckOptions& opt) {
       if (sb.wall && sb.mesh)
         std::cout << ", mesh wall of " << sb.mesh->triangles << " triangles (" << b.size()
                   << " carrier points)\n";
+      else if (sb.sphere_radius > 0)
+        std::cout << ", DEM sphere of radius " << sb.sphere_radius << " m (inertia 2/5 m R^2)\n";
       else
         std::cout << ", " << b.dimension << "D, " << b.size() << " points, dx " << sb.spacing
                   << " m\n";

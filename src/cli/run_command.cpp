@@ -60,6 +60,8 @@ void print_rigid_setup(const SceneBody& sb, std::ostream& os) {
   if (sb.wall && sb.mesh)
     os << "mesh wall of " << sb.mesh->triangles << " triangles (" << b.size()
        << " carrier points)\n";
+  else if (sb.sphere_radius > 0)
+    os << "DEM sphere of radius " << sb.sphere_radius << " m (inertia 2/5 m R^2)\n";
   else
     os << b.dimension << "D, " << b.size() << " points, dx " << sb.spacing << " m\n";
 }

@@ -29,8 +29,8 @@ bool joined_by_intact_bond(const Body& body, std::uint32_t i, std::uint32_t j) {
 }
 
 ContactBody contact_body(const SceneBody& sb, PointSet points) {
-  return {points, sb.rigid.has_value(), sb.rigid.has_value() && sb.rigid->prescribed(),
-          sb.wall.get(), sb.elastic};
+  return {points,        sb.rigid.has_value(), sb.rigid.has_value() && sb.rigid->prescribed(),
+          sb.wall.get(), sb.elastic,           sb.sphere_radius};
 }
 
 PointSet point_set(const SceneBody& sb) {

@@ -109,6 +109,7 @@ DistributedScene distribute_scene(Scene& whole, int rank, int ranks) {
       l.wall_surface = w.wall_surface;
       l.mesh = w.mesh;
       l.elastic = w.elastic;
+      l.sphere_radius = w.sphere_radius;
       l.conditions = std::move(w.conditions);
       w.conditions.clear();
       local.bodies.push_back(std::move(l));

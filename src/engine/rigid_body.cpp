@@ -40,6 +40,16 @@ Body make_point_set(std::string name, int dimension, std::vector<Vec3> position,
 RigidMotion::RigidMotion(const Body& body, Kind kind, const Vec3& velocity,
                          const Vec3& angular_velocity)
     : kind_(kind), velocity_(velocity) {
+  set_up(body, angular_velocity);
+}
+
+RigidMotion::RigidMotion(const Body& body, Kind kind, const Vec3& velocity,
+                         const Vec3& angular_velocity, const Mat3& inertia)
+    : kind_(kind), velocity_(velocity), inertia_(inertia), inertia_given_(true) {
+  set_up(body, angular_velocity);
+}
+
+void RigidMotion::set_up(const Body& body, const Vec3& angular_velocity) {
   // The centre is the volume centroid, which is the mass centre for the uniform density and
   // the pivot of a prescribed rotation.
   double volume = 0;
@@ -52,9 +62,10 @@ RigidMotion::RigidMotion(const Body& body, Kind kind, const Vec3& velocity,
   mass_ = body.density * volume;
   for (std::size_t i = 0; i < body.size(); ++i) {
     const Vec3 r = body.reference_position[i] - reference_centre_;
-    inertia_ +=
+    point_inertia_ +=
         body.density * body.volume[i] * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
   }
+  if (!inertia_given_) inertia_ = point_inertia_;
   if (kind_ == Kind::free) {
     if (!(mass_ > 0))
       throw std::invalid_argument("free rigid body '" + body.name + "' has no mass");
@@ -70,6 +81,13 @@ RigidMotion::RigidMotion(const Body& body, Kind kind, const Vec3& velocity,
   } else {
     imposed_angular_velocity_ = angular_velocity;
   }
+}
+
+double RigidMotion::spin_energy_beyond_points() const {
+  if (!inertia_given_) return 0;
+  const Mat3 R = rotation();
+  const Vec3 w = R.transpose() * angular_velocity();  // reference axes
+  return 0.5 * w.dot((inertia_ - point_inertia_) * w);
 }
 
 Vec3 RigidMotion::angular_velocity() const {

@@ -26,6 +26,11 @@ class RigidMotion {
   // Mass properties from the points (mass rho V^i each); the body must have a positive density
   // for a free motion. `velocity` is that of the centre of mass, `angular_velocity` about it.
   RigidMotion(const Body& body, Kind kind, const Vec3& velocity, const Vec3& angular_velocity);
+  // The same with the inertia about the centre given (reference axes) rather than summed from the
+  // points: a DEM sphere is one point with the solid sphere's 2/5 m R^2
+  // (src/case/rigid_body_loader.cpp).
+  RigidMotion(const Body& body, Kind kind, const Vec3& velocity, const Vec3& angular_velocity,
+              const Mat3& inertia);
 
   Kind kind() const { return kind_; }
   bool prescribed() const { return kind_ == Kind::prescribed; }
@@ -35,6 +40,9 @@ class RigidMotion {
   Vec3 angular_velocity() const;
   // Speed of the fastest point now.
   double max_speed(const Body& body) const;
+  // The kinetic energy of the spin that the point velocities do not carry: with a given inertia,
+  // 1/2 omega . (I - I_points) omega (a DEM sphere's whole 1/2 I omega^2); 0 otherwise.
+  double spin_energy_beyond_points() const;
 
   // Point velocities (and displacements) at t = 0.
   void initialise(Body& body) const;
@@ -73,6 +81,7 @@ class RigidMotion {
  private:
   Vec3 force(const Body& body) const;
   Vec3 torque(const Body& body) const;
+  void set_up(const Body& body, const Vec3& angular_velocity);
   Mat3 rotation() const { return orientation_.toRotationMatrix(); }
   void place_points(Body& body) const;
   void set_point_velocities(Body& body) const;
@@ -82,6 +91,8 @@ class RigidMotion {
   Vec3 reference_centre_ = Vec3::Zero();  // c0
   Mat3 inverse_inertia_ = Mat3::Zero();   // I0^-1 (pseudo-inverse for points on a line)
   Mat3 inertia_ = Mat3::Zero();           // I0 about c0, reference axes
+  Mat3 point_inertia_ = Mat3::Zero();     // that of the points (I0 unless it was given)
+  bool inertia_given_ = false;
   Vec3 centre_ = Vec3::Zero();
   Vec3 velocity_ = Vec3::Zero();
   Eigen::Quaterniond orientation_ = Eigen::Quaterniond::Identity();

@@ -24,6 +24,9 @@ struct SceneBody {
   double spacing = 0;  // lattice spacing dx
   std::vector<std::unique_ptr<Condition>> conditions;
   std::optional<RigidMotion> rigid;  // set: a rigid body (no bonds; body holds its points)
+  // A DEM sphere (a rigid body of one point at its centre with the solid sphere's inertia): its
+  // radius R, which sets its contact radius (contact_settings.hpp); 0 for every other body.
+  double sphere_radius = 0;
   // A mesh wall: a rigid body given by its surface; `body` holds its six carrier points.
   std::shared_ptr<const MeshWall> wall;
   // The wall's triangles in the reference frame, for field output (the wall moves them rigidly).

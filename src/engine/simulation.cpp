@@ -958,6 +958,8 @@ double Simulation::kinetic_energy() const {
     const Body& b = sb.body;
     for (std::size_t i = 0; i < b.size(); ++i)
       if (b.books(i)) kinetic += 0.5 * b.density * b.volume[i] * b.velocity[i].squaredNorm();
+    // A DEM sphere's spin is not in its one point's velocity.
+    if (sb.rigid && b.size() > 0 && b.books(0)) kinetic += sb.rigid->spin_energy_beyond_points();
   }
   return kinetic;
 }

@@ -75,6 +75,10 @@ std::vector<HistoryQuantityKind> make_table() {
         for_booked(src, q.bodies[0], [&](const Body& b, std::size_t i) {
           sums[0] += 0.5 * b.density * b.volume[i] * b.velocity[i].squaredNorm();
         });
+        // A DEM sphere's spin, booked with its one point.
+        const SceneBody& sb = src.scene.bodies[q.bodies[0]];
+        if (sb.rigid && sb.body.size() > 0 && sb.body.books(0))
+          sums[0] += sb.rigid->spin_energy_beyond_points();
       }));
   t.push_back(scalar_kind("strain_energy", 1,
                           [](const HistorySource& src, const HistoryQuantity& q, double* sums) {

@@ -172,6 +172,22 @@ nlohmann::ordered_json make_summary(const Simulation& sim, const std::string& st
          // Connected components of intact bonds; single points count.
          {"fragments", fragments.count()},
          {"largest_fragments", sizes}});
+    if (sb.rigid) {
+      // The rigid motion at the end: every process moves a rigid body whole, so its own copy
+      // (the whole scene's is the one it started from in a distributed run).
+      const SceneBody& moved = sim.scene().bodies.size() == sim.whole_scene().bodies.size()
+                                   ? sim.scene().bodies[index]
+                                   : sb;
+      const RigidMotion& r = *moved.rigid;
+      const Vec3 c = r.centre(), v = r.velocity(), w = r.angular_velocity();
+      nlohmann::ordered_json rigid = {{"motion", r.prescribed() ? "prescribed" : "free"},
+                                      {"mass", r.mass()},
+                                      {"centre", {c.x(), c.y(), c.z()}},
+                                      {"velocity", {v.x(), v.y(), v.z()}},
+                                      {"angular_velocity", {w.x(), w.y(), w.z()}}};
+      if (sb.sphere_radius > 0) rigid["dem_sphere_radius"] = sb.sphere_radius;
+      bodies.back()["rigid"] = rigid;
+    }
     if (sb.far_field)
       bodies.back()["far_field"] = {{"tolerance", sb.far_field->tolerance},
                                     {"corotated", sb.far_field->corotated},

@@ -163,8 +163,8 @@ KeySection rigid_body_section() {
   KeySection s{
       "rigid_body",
       "bodies entries (rigid)",
-      "A body that moves as a whole: points on a lattice (geometry) or a triangle surface "
-      "(mesh_wall); it has no bonds.",
+      "A body that moves as a whole: points on a lattice (geometry), a triangle surface "
+      "(mesh_wall) or a DEM sphere (dem_sphere); it has no bonds.",
       {name_key(),
        {"material", K::text, "-", "none",
         "a material in `materials` giving the density (and E, nu for contact laws that use them)"},
@@ -173,11 +173,19 @@ KeySection rigid_body_section() {
        {"mesh_wall",
         K::section,
         "-",
-        "give geometry or mesh_wall",
+        "give geometry, mesh_wall or dem_sphere",
         "a triangle surface as the body (3D)",
         {},
         "",
         "mesh_wall"},
+       {"dem_sphere",
+        K::section,
+        "-",
+        "give geometry, mesh_wall or dem_sphere",
+        "a DEM sphere: one point with the solid sphere's inertia, touching at its radius",
+        {},
+        "",
+        "dem_sphere"},
        {"spacing",
         K::number,
         "m",
@@ -186,9 +194,10 @@ KeySection rigid_body_section() {
         {},
         "1e-9 to 1e6"},
        max_points_key(),
-       geometry_key("give geometry or mesh_wall", "the shape whose lattice sites are the points")}};
+       geometry_key("give geometry, mesh_wall or dem_sphere",
+                    "the shape whose lattice sites are the points")}};
   s.refuses_keys_of = "body";
-  s.exactly_one = {{"geometry", "mesh_wall"}};
+  s.exactly_one = {{"geometry", "mesh_wall", "dem_sphere"}};
   return s;
 }
 
@@ -216,6 +225,13 @@ const bool rigid_registered = register_key_section(
        "the mass (give it or a material, not both; a free body needs one)",
        {},
        "> 0"},
+      {"density",
+       K::number,
+       "kg/m^3",
+       "the material's",
+       "the density (instead of mass or a material)",
+       {},
+       "1e-6 to 1e6"},
       {"youngs_modulus",
        K::number,
        "Pa",
@@ -230,6 +246,16 @@ const bool rigid_registered = register_key_section(
        "nu for contact laws that use it (with youngs_modulus)",
        {},
        "(-1, 0.5)"}}});
+
+const bool dem_sphere_registered = register_key_section(
+    {"dem_sphere",
+     "dem_sphere",
+     "A DEM sphere as LIGGGHTS and YADE have it: a rigid body of one point at its centre, with the "
+     "mass rho 4/3 pi R^3 (or rigid.mass) and the solid sphere's inertia 2/5 m R^2; it touches "
+     "another sphere at R_a + R_b, a mesh wall at R and a point of a lattice body at R plus half "
+     "that body's own contact radius.",
+     {{"center", K::vector, "m", kRequired, "the centre"},
+      {"radius", K::number, "m", kRequired, "the radius R", {}, "1e-9 to 1e6"}}});
 
 }  // namespace
 

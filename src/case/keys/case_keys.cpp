@@ -22,7 +22,7 @@ const bool case_registered = register_key_section(
       {"materials",
        K::named_sections,
        "-",
-       kRequired,
+       "none (rigid bodies and DEM spheres may give their mass, E and nu themselves)",
        "the materials, by name: `name: {model: ..., density: ..., ...}`",
        {},
        "",
