@@ -11,42 +11,13 @@
 #include <vector>
 
 #include "contact_fixtures.hpp"
+#include "scene_momentum.hpp"
 #include "src/engine/contact_coupling.hpp"
 
 using namespace ckpd;
 using namespace ckpd::testing;
 
 namespace {
-
-struct Momenta {
-  Vec3 linear = Vec3::Zero(), angular = Vec3::Zero();
-  double linear_scale = 0, angular_scale = 0;  // sums of m |v| and m |x| |v|
-};
-
-Momenta momenta(const Scene& scene) {
-  Momenta m;
-  for (const SceneBody& sb : scene.bodies) {
-    if (sb.rigid) {
-      const RigidMotion& r = *sb.rigid;
-      const Vec3 p = r.mass() * r.velocity();
-      m.linear += p;
-      m.angular += r.centre().cross(p) + r.state().angular_momentum;
-      m.linear_scale += p.norm();
-      m.angular_scale += r.centre().norm() * p.norm() + r.state().angular_momentum.norm();
-      continue;
-    }
-    const Body& b = sb.body;
-    for (std::size_t i = 0; i < b.size(); ++i) {
-      const double mass = b.density * b.volume[i];
-      const Vec3 x = b.current_position(i);
-      m.linear += mass * b.velocity[i];
-      m.angular += mass * x.cross(b.velocity[i]);
-      m.linear_scale += mass * b.velocity[i].norm();
-      m.angular_scale += mass * x.norm() * b.velocity[i].norm();
-    }
-  }
-  return m;
-}
 
 struct Outcome {
   double linear_error = 0, angular_error = 0;  // worst over the run, relative to the scale
@@ -62,13 +33,13 @@ Outcome run(const std::string& tag, const std::string& text, double end, double 
   time << "time: {end: " << end << ", safety: " << safety << "}\n";
   Scene scene = scene_from_text(tag, text + time.str());
   Simulation sim(scene);
-  const Momenta m0 = momenta(scene);
+  const SceneMomentum m0 = scene_momentum(scene);
   Outcome o;
   o.initial_energy = sim.energies().kinetic;
   while (sim.step() < sim.planned_steps()) {
     sim.advance(true);
     o.balance_error = std::max(o.balance_error, std::abs(sim.energies().balance_error));
-    const Momenta m = momenta(scene);
+    const SceneMomentum m = scene_momentum(scene);
     o.linear_error = std::max(o.linear_error, (m.linear - m0.linear).norm() / m0.linear_scale);
     o.angular_error = std::max(o.angular_error, (m.angular - m0.angular).norm() / m0.angular_scale);
   }

@@ -8,43 +8,13 @@
 #include <numbers>
 
 #include "dem_sphere_fixtures.hpp"
+#include "scene_momentum.hpp"
 #include "src/case/case_loader.hpp"
 
 using namespace ckpd;
 using namespace ckpd::testing;
 
 namespace {
-
-struct Totals {
-  Vec3 momentum = Vec3::Zero(), angular = Vec3::Zero();
-  double momentum_scale = 0, angular_scale = 0;  // sums of the magnitudes of the terms
-};
-
-// About the origin: every body's c x m v (the centre's) plus its spin I omega. A body of several
-// points carries its spin in its points' velocities: sum over points x m v.
-Totals totals(const Scene& scene) {
-  Totals t;
-  for (const SceneBody& sb : scene.bodies) {
-    if (!sb.rigid || sb.rigid->prescribed()) continue;
-    const RigidMotion& r = *sb.rigid;
-    const Vec3 p = r.mass() * r.velocity();
-    t.momentum += p;
-    t.momentum_scale += p.norm();
-    Vec3 spin = Vec3::Zero();
-    if (sb.sphere_radius > 0) {
-      spin = 0.4 * r.mass() * sb.sphere_radius * sb.sphere_radius * r.angular_velocity();
-    } else {
-      const Body& b = sb.body;
-      for (std::size_t i = 0; i < b.size(); ++i)
-        spin += (b.current_position(i) - r.centre())
-                    .cross(b.density * b.volume[i] * (b.velocity[i] - r.velocity()));
-    }
-    const Vec3 orbit = r.centre().cross(p);
-    t.angular += orbit + spin;
-    t.angular_scale += orbit.norm() + spin.norm();
-  }
-  return t;
-}
 
 struct Drift {
   double momentum = 0, angular = 0;  // largest relative changes over the run
@@ -53,15 +23,14 @@ struct Drift {
 
 Drift run_and_watch(Scene& scene) {
   Simulation sim(scene);
-  const Totals start = totals(scene);
+  const SceneMomentum start = scene_momentum(scene);
   const Vec3 spin0 = scene.bodies[0].rigid->angular_velocity();
   Drift d;
   bool met = false;
   while (sim.step() < sim.planned_steps()) {
     sim.advance(false);
-    const Totals now = totals(scene);
-    d.momentum =
-        std::max(d.momentum, (now.momentum - start.momentum).norm() / start.momentum_scale);
+    const SceneMomentum now = scene_momentum(scene);
+    d.momentum = std::max(d.momentum, (now.linear - start.linear).norm() / start.linear_scale);
     d.angular = std::max(d.angular, (now.angular - start.angular).norm() / start.angular_scale);
     const bool touching = sim.contact()->statistics().points_in_contact > 0;
     if (met && !touching) break;
